@@ -1,0 +1,396 @@
+#include "configs/loader/scene_config.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "configs/loader/config_error.hpp"
+
+namespace arphys::config {
+
+const char* to_string(Role role) { return role == Role::kReal ? "real" : "virtual"; }
+
+const char* to_string(Motion motion) {
+  switch (motion) {
+    case Motion::kStatic: return "static";
+    case Motion::kKinematic: return "kinematic";
+    case Motion::kDynamic: return "dynamic";
+  }
+  return "?";
+}
+
+const char* to_string(ShapeType type) {
+  switch (type) {
+    case ShapeType::kPlane: return "plane";
+    case ShapeType::kBox: return "box";
+    case ShapeType::kSphere: return "sphere";
+    case ShapeType::kMesh: return "mesh";
+  }
+  return "?";
+}
+
+const ObjectConfig* SceneConfig::find_object(const std::string& id) const {
+  for (const auto& object : objects)
+    if (object.id == id) return &object;
+  return nullptr;
+}
+
+const ObjectConfig* SceneConfig::find_marker_owner(const std::string& family, int id) const {
+  for (const auto& object : objects)
+    for (const auto& marker : object.markers)
+      if (marker.family == family && marker.id == id) return &object;
+  return nullptr;
+}
+
+std::string default_config_dir() { return ARPHYS_DEFAULT_CONFIG_DIR; }
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Walks a YAML document keeping the key path and file for error messages.
+class Reader {
+ public:
+  Reader(std::string file, fs::path base_dir) : file_(std::move(file)), base_dir_(std::move(base_dir)) {}
+
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
+    const int line = (node.IsDefined() && node.Mark().line >= 0) ? node.Mark().line + 1 : 0;
+    throw ConfigError(file_, line, key, problem);
+  }
+
+  static std::string shown(const YAML::Node& node) {
+    if (!node.IsDefined() || node.IsNull()) return "nothing";
+    if (node.IsScalar()) return "'" + node.Scalar() + "'";
+    if (node.IsSequence()) return "a list";
+    return "a map";
+  }
+
+  // Rejects keys the schema does not know: a typo must not silently become a default.
+  void only_keys(const YAML::Node& map, const std::string& key, std::initializer_list<const char*> known) const {
+    if (!map.IsMap()) fail(map, key, "got " + shown(map) + ", expected a map");
+    std::set<std::string> allowed(known.begin(), known.end());
+    for (const auto& entry : map) {
+      const std::string name = entry.first.as<std::string>();
+      if (!allowed.count(name)) {
+        std::string list;
+        for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
+        fail(entry.first, join(key, name), "unknown key (expected one of: " + list + ")");
+      }
+    }
+  }
+
+  static std::string join(const std::string& parent, const std::string& child) {
+    return parent.empty() ? child : parent + "." + child;
+  }
+
+  YAML::Node required(const YAML::Node& map, const std::string& parent, const char* name) const {
+    YAML::Node node = map[name];
+    if (!node.IsDefined() || node.IsNull()) fail(map, join(parent, name), "missing (required)");
+    return node;
+  }
+
+  std::string string(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsScalar() || node.Scalar().empty()) fail(node, key, "got " + shown(node) + ", expected a non-empty string");
+    return node.Scalar();
+  }
+
+  double number(const YAML::Node& node, const std::string& key, const std::string& expected = "a number") const {
+    double value = 0;
+    if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value)) {
+      fail(node, key, "got " + shown(node) + ", expected " + expected);
+    }
+    return value;
+  }
+
+  double positive(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    const double value = number(node, key, what);
+    if (!(value > 0)) fail(node, key, "got " + node.Scalar() + ", expected " + what);
+    return value;
+  }
+
+  int integer(const YAML::Node& node, const std::string& key, const std::string& expected) const {
+    int value = 0;
+    if (!node.IsScalar() || !YAML::convert<int>::decode(node, value)) {
+      fail(node, key, "got " + shown(node) + ", expected " + expected);
+    }
+    return value;
+  }
+
+  Eigen::VectorXd vector(const YAML::Node& node, const std::string& key, int size, const std::string& what) const {
+    if (!node.IsSequence() || static_cast<int>(node.size()) != size) {
+      fail(node, key, "got " + shown(node) + ", expected a list of " + std::to_string(size) + " numbers (" + what + ")");
+    }
+    Eigen::VectorXd out(size);
+    for (int i = 0; i < size; ++i) out[i] = number(node[i], key + "[" + std::to_string(i) + "]", what);
+    return out;
+  }
+
+  geometry::Pose pose(const YAML::Node& node, const std::string& key) const {
+    only_keys(node, key, {"position_m", "orientation_wxyz"});
+    const Eigen::Vector3d p = vector(required(node, key, "position_m"), join(key, "position_m"), 3, "metres");
+    const YAML::Node qn = required(node, key, "orientation_wxyz");
+    const Eigen::Vector4d q = vector(qn, join(key, "orientation_wxyz"), 4, "a unit quaternion w, x, y, z");
+    const double norm = q.norm();
+    if (std::abs(norm - 1.0) > 1e-6) {
+      std::ostringstream s;
+      s << "quaternion (" << q.transpose() << ") has norm " << norm
+        << ", expected a unit quaternion (|norm - 1| <= 1e-6; write at least 7 significant digits)";
+      fail(qn, join(key, "orientation_wxyz"), s.str());
+    }
+    return geometry::make_pose(p, q, key);
+  }
+
+  std::string path(const YAML::Node& node, const std::string& key, const std::string& what) const {
+    const std::string given = string(node, key);
+    fs::path p(given);
+    if (p.is_relative()) p = base_dir_ / p;
+    p = p.lexically_normal();
+    if (!fs::is_regular_file(p)) {
+      fail(node, key, what + " '" + given + "' not found (looked for " + p.string() +
+                          "; relative paths are relative to the scene file)");
+    }
+    return p.string();
+  }
+
+  ShapeConfig shape(const YAML::Node& node, const std::string& key) const {
+    only_keys(node, key, {"shape", "size_m", "radius_m", "mesh", "scale"});
+    ShapeConfig out;
+    const YAML::Node type_node = required(node, key, "shape");
+    const std::string type = string(type_node, join(key, "shape"));
+    if (type == "plane") {
+      out.type = ShapeType::kPlane;
+    } else if (type == "box") {
+      out.type = ShapeType::kBox;
+      const YAML::Node size = required(node, key, "size_m");
+      const std::string size_key = join(key, "size_m");
+      const Eigen::Vector3d s = vector(size, size_key, 3, "side lengths in metres");
+      for (int i = 0; i < 3; ++i) {
+        if (!(s[i] > 0)) fail(size[i], size_key + "[" + std::to_string(i) + "]",
+                              "got " + size[i].Scalar() + ", expected a positive length in metres");
+      }
+      out.size_m = s;
+    } else if (type == "sphere") {
+      out.type = ShapeType::kSphere;
+      out.radius_m = positive(required(node, key, "radius_m"), join(key, "radius_m"), "a positive radius in metres");
+    } else if (type == "mesh") {
+      out.type = ShapeType::kMesh;
+      out.mesh_path = path(required(node, key, "mesh"), join(key, "mesh"), "mesh file");
+      const YAML::Node scale = node["scale"];
+      if (scale.IsDefined()) {
+        const std::string scale_key = join(key, "scale");
+        if (scale.IsSequence()) {
+          out.scale = vector(scale, scale_key, 3, "positive scale factors");
+        } else {
+          out.scale = Eigen::Vector3d::Constant(number(scale, scale_key, "a positive scale factor or a list of 3"));
+        }
+        if (!(out.scale.minCoeff() > 0)) fail(scale, scale_key, "got " + shown(scale) + ", expected positive scale factors");
+      }
+    } else {
+      fail(type_node, join(key, "shape"), "got '" + type + "', expected one of: plane, box, sphere, mesh");
+    }
+    return out;
+  }
+
+ private:
+  std::string file_;
+  fs::path base_dir_;
+};
+
+Role parse_role(const Reader& r, const YAML::Node& node, const std::string& key) {
+  const std::string value = r.string(node, key);
+  if (value == "real") return Role::kReal;
+  if (value == "virtual") return Role::kVirtual;
+  r.fail(node, key, "got '" + value + "', expected 'real' or 'virtual'");
+}
+
+Motion parse_motion(const Reader& r, const YAML::Node& node, const std::string& key) {
+  const std::string value = r.string(node, key);
+  if (value == "static") return Motion::kStatic;
+  if (value == "kinematic") return Motion::kKinematic;
+  if (value == "dynamic") return Motion::kDynamic;
+  r.fail(node, key, "got '" + value + "', expected 'static', 'kinematic' or 'dynamic'");
+}
+
+ObjectConfig parse_object(const Reader& r, const YAML::Node& node, const std::string& key) {
+  r.only_keys(node, key,
+              {"id", "role", "motion", "collision", "render", "mass_kg", "density_kg_m3", "restitution", "friction",
+               "pose", "markers", "spawn"});
+  ObjectConfig object;
+  object.id = r.string(r.required(node, key, "id"), key + ".id");
+  object.role = parse_role(r, r.required(node, key, "role"), key + ".role");
+  object.motion = parse_motion(r, r.required(node, key, "motion"), key + ".motion");
+  if (object.role == Role::kReal && object.motion == Motion::kDynamic) {
+    r.fail(node["motion"], key + ".motion",
+           "got 'dynamic' for a real object, expected 'static' or 'kinematic' (real objects are driven by tracking)");
+  }
+  object.collision = r.shape(r.required(node, key, "collision"), key + ".collision");
+  object.render = node["render"].IsDefined() ? r.shape(node["render"], key + ".render") : object.collision;
+  if (object.motion == Motion::kDynamic && object.collision.type == ShapeType::kPlane) {
+    r.fail(node["collision"], key + ".collision.shape", "a plane cannot be dynamic (it has no mass), expected box, sphere or mesh");
+  }
+  if (node["mass_kg"].IsDefined() && node["density_kg_m3"].IsDefined()) {
+    r.fail(node["density_kg_m3"], key + ".density_kg_m3", "given together with mass_kg, expected at most one of them");
+  }
+  if (node["mass_kg"].IsDefined())
+    object.mass_kg = r.positive(node["mass_kg"], key + ".mass_kg", "a positive mass in kilograms");
+  if (node["density_kg_m3"].IsDefined())
+    object.density_kg_m3 = r.positive(node["density_kg_m3"], key + ".density_kg_m3", "a positive density in kg/m^3");
+  if (node["restitution"].IsDefined()) {
+    object.restitution = r.number(node["restitution"], key + ".restitution", "a coefficient of restitution in [0, 1]");
+    if (object.restitution < 0 || object.restitution > 1) {
+      r.fail(node["restitution"], key + ".restitution",
+             "got " + node["restitution"].Scalar() + ", expected a coefficient of restitution in [0, 1]");
+    }
+  }
+  if (node["friction"].IsDefined()) {
+    object.friction = r.number(node["friction"], key + ".friction", "a Coulomb friction coefficient >= 0");
+    if (*object.friction < 0) {
+      r.fail(node["friction"], key + ".friction", "got " + node["friction"].Scalar() + ", expected a Coulomb friction coefficient >= 0");
+    }
+  }
+  if (node["pose"].IsDefined()) object.X_WO = r.pose(node["pose"], key + ".pose");
+
+  const YAML::Node markers = node["markers"];
+  if (markers.IsDefined()) {
+    if (object.role != Role::kReal) {
+      r.fail(markers, key + ".markers", "a virtual object carries no markers, expected markers only on real objects");
+    }
+    if (!markers.IsSequence()) r.fail(markers, key + ".markers", "got " + Reader::shown(markers) + ", expected a list");
+    for (std::size_t i = 0; i < markers.size(); ++i) {
+      const std::string mkey = key + ".markers[" + std::to_string(i) + "]";
+      const YAML::Node m = markers[i];
+      r.only_keys(m, mkey, {"family", "id", "size_m", "pose"});
+      MarkerConfig marker;
+      marker.family = r.string(r.required(m, mkey, "family"), mkey + ".family");
+      marker.id = r.integer(r.required(m, mkey, "id"), mkey + ".id", "a marker id (integer >= 0)");
+      if (marker.id < 0) r.fail(m["id"], mkey + ".id", "got " + m["id"].Scalar() + ", expected a marker id >= 0");
+      marker.size_m = r.positive(r.required(m, mkey, "size_m"), mkey + ".size_m", "a positive side length in metres");
+      marker.X_OM = r.pose(r.required(m, mkey, "pose"), mkey + ".pose");
+      object.markers.push_back(marker);
+    }
+  }
+
+  const YAML::Node spawn = node["spawn"];
+  if (spawn.IsDefined()) {
+    const std::string skey = key + ".spawn";
+    if (object.role != Role::kVirtual || object.motion != Motion::kDynamic) {
+      r.fail(spawn, skey, "only virtual dynamic objects can be spawned");
+    }
+    r.only_keys(spawn, skey, {"max_instances", "at_start"});
+    if (spawn["max_instances"].IsDefined()) {
+      object.max_instances = r.integer(spawn["max_instances"], skey + ".max_instances", "a count >= 1");
+      if (object.max_instances < 1 || object.max_instances > 10000) {
+        r.fail(spawn["max_instances"], skey + ".max_instances", "got " + spawn["max_instances"].Scalar() + ", expected 1 to 10000");
+      }
+    }
+    const YAML::Node at_start = spawn["at_start"];
+    if (at_start.IsDefined()) {
+      if (!at_start.IsSequence()) r.fail(at_start, skey + ".at_start", "expected a list");
+      for (std::size_t i = 0; i < at_start.size(); ++i) {
+        const std::string ikey = skey + ".at_start[" + std::to_string(i) + "]";
+        r.only_keys(at_start[i], ikey, {"pose", "velocity_m_s", "angular_velocity_rad_s"});
+        SpawnConfig s;
+        s.X_WB = r.pose(r.required(at_start[i], ikey, "pose"), ikey + ".pose");
+        if (at_start[i]["velocity_m_s"].IsDefined())
+          s.v_WB_m_s = r.vector(at_start[i]["velocity_m_s"], ikey + ".velocity_m_s", 3, "m/s");
+        if (at_start[i]["angular_velocity_rad_s"].IsDefined())
+          s.w_WB_rad_s = r.vector(at_start[i]["angular_velocity_rad_s"], ikey + ".angular_velocity_rad_s", 3, "rad/s");
+        object.spawn_at_start.push_back(s);
+      }
+      if (static_cast<int>(object.spawn_at_start.size()) > object.max_instances) {
+        r.fail(at_start, skey + ".at_start",
+               std::to_string(object.spawn_at_start.size()) + " instances, more than max_instances = " +
+                   std::to_string(object.max_instances));
+      }
+    }
+  }
+  return object;
+}
+
+}  // namespace
+
+SceneConfig load_scene(const std::string& path_in) {
+  const fs::path path = fs::absolute(path_in).lexically_normal();
+  if (!fs::is_regular_file(path)) throw ConfigError(path_in, 0, "", "scene file does not exist");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path.string());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path.string(), e.mark.line >= 0 ? e.mark.line + 1 : 0, "", "not valid YAML: " + e.msg);
+  }
+  Reader r(path.string(), path.parent_path());
+  r.only_keys(root, "", {"name", "camera", "lcm", "channels", "physics", "objects"});
+
+  SceneConfig scene;
+  scene.file = path.string();
+  scene.name = r.string(r.required(root, "", "name"), "name");
+  scene.camera_file = r.path(r.required(root, "", "camera"), "camera", "camera file");
+
+  if (root["lcm"].IsDefined()) {
+    r.only_keys(root["lcm"], "lcm", {"url"});
+    if (root["lcm"]["url"].IsDefined()) scene.lcm_url = r.string(root["lcm"]["url"], "lcm.url");
+  }
+  if (root["channels"].IsDefined()) {
+    const YAML::Node ch = root["channels"];
+    std::map<std::string, std::string*> fields = {
+        {"camera_image", &scene.channels.camera_image},     {"camera_info", &scene.channels.camera_info},
+        {"marker_detections", &scene.channels.marker_detections}, {"object_poses", &scene.channels.object_poses},
+        {"world_state", &scene.channels.world_state},       {"sim_command", &scene.channels.sim_command},
+        {"tracker_control", &scene.channels.tracker_control}, {"render_status", &scene.channels.render_status},
+        {"overlay_image", &scene.channels.overlay_image},   {"process_status", &scene.channels.process_status},
+        {"ground_truth", &scene.channels.ground_truth}};
+    r.only_keys(ch, "channels",
+                {"camera_image", "camera_info", "marker_detections", "object_poses", "world_state", "sim_command",
+                 "tracker_control", "render_status", "overlay_image", "process_status", "ground_truth"});
+    for (const auto& entry : ch) {
+      const std::string name = entry.first.as<std::string>();
+      *fields.at(name) = r.string(entry.second, "channels." + name);
+    }
+  }
+  if (root["physics"].IsDefined()) {
+    const YAML::Node ph = root["physics"];
+    r.only_keys(ph, "physics", {"gravity_m_s2", "time_step_s"});
+    if (ph["gravity_m_s2"].IsDefined()) scene.gravity_m_s2 = r.vector(ph["gravity_m_s2"], "physics.gravity_m_s2", 3, "m/s^2");
+    if (ph["time_step_s"].IsDefined()) {
+      scene.time_step_s = r.positive(ph["time_step_s"], "physics.time_step_s", "a positive time step in seconds");
+      if (scene.time_step_s > 0.1) {
+        r.fail(ph["time_step_s"], "physics.time_step_s",
+               "got " + ph["time_step_s"].Scalar() + ", expected a time step of at most 0.1 s");
+      }
+    }
+  }
+
+  const YAML::Node objects = r.required(root, "", "objects");
+  if (!objects.IsSequence() || objects.size() == 0) {
+    r.fail(objects, "objects", "got " + Reader::shown(objects) + ", expected a non-empty list of objects");
+  }
+  std::map<std::string, std::string> object_keys;                      // id -> key path
+  std::map<std::pair<std::string, int>, std::string> marker_keys;      // (family, id) -> key path
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const std::string key = "objects[" + std::to_string(i) + "]";
+    ObjectConfig object = parse_object(r, objects[i], key);
+    if (object_keys.count(object.id)) {
+      r.fail(objects[i]["id"], key + ".id",
+             "duplicate object id '" + object.id + "' (also " + object_keys[object.id] + "), expected unique ids");
+    }
+    object_keys[object.id] = key;
+    for (std::size_t m = 0; m < object.markers.size(); ++m) {
+      const auto marker_key = std::make_pair(object.markers[m].family, object.markers[m].id);
+      const std::string this_key = key + ".markers[" + std::to_string(m) + "]";
+      if (marker_keys.count(marker_key)) {
+        r.fail(objects[i]["markers"][m]["id"], this_key + ".id",
+               "duplicate marker " + marker_key.first + " id " + std::to_string(marker_key.second) + " (also at " +
+                   marker_keys[marker_key] + "), expected each marker on one object only");
+      }
+      marker_keys[marker_key] = this_key;
+    }
+    scene.objects.push_back(std::move(object));
+  }
+  return scene;
+}
+
+}  // namespace arphys::config

@@ -1,0 +1,46 @@
+#pragma once
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace arphys::geometry {
+
+// An indexed triangle mesh in its own body frame, metres. May be a polygon soup
+// (open, non-manifold); functions that need a closed surface say so.
+struct TriangleMesh {
+  std::vector<Eigen::Vector3d> vertices_m;
+  std::vector<Eigen::Vector3i> triangles;  // vertex indices, counter-clockwise seen from outside
+
+  std::size_t num_vertices() const { return vertices_m.size(); }
+  std::size_t num_triangles() const { return triangles.size(); }
+  Eigen::AlignedBox3d bounds() const;
+};
+
+// Loads OBJ, PLY, STL (anything assimp reads) as one mesh: all sub-meshes merged,
+// node transforms applied, faces triangulated, identical vertices joined, then
+// every vertex multiplied component-wise by `scale`. Nothing else is changed
+// (no recentring). Throws std::runtime_error naming the path when the file is
+// missing, cannot be parsed or holds no triangles.
+TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
+
+// Boundary edges (used by exactly one triangle) and non-manifold edges (more than two).
+struct MeshTopology {
+  std::size_t boundary_edges = 0;
+  std::size_t non_manifold_edges = 0;
+  bool closed() const { return boundary_edges == 0 && non_manifold_edges == 0; }
+};
+MeshTopology mesh_topology(const TriangleMesh& mesh);
+
+// Closes each boundary loop with a fan of triangles around the loop's centroid,
+// oriented consistently with the neighbouring triangles. Scanned meshes (the
+// Stanford bunny has small holes in its base) need this before volume integration.
+// Returns the number of loops closed.
+std::size_t cap_boundary_loops(TriangleMesh& mesh);
+
+// Simple closed meshes for tests and primitives' render meshes.
+TriangleMesh make_box_mesh(const Eigen::Vector3d& size_m);
+TriangleMesh make_sphere_mesh(double radius_m, int subdivisions);
+
+}  // namespace arphys::geometry

@@ -1,0 +1,173 @@
+#include "configs/loader/scene_config.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "configs/loader/config_error.hpp"
+
+namespace arphys::config {
+namespace {
+
+const std::string kConfigs = std::string(ARPHYS_SOURCE_DIR) + "/configs/";
+
+TEST(SceneConfig, BunnyBoxTableLoads) {
+  const SceneConfig scene = load_scene(kConfigs + "scenes/bunny_box_table.yaml");
+  EXPECT_EQ(scene.name, "bunny_box_table");
+  ASSERT_EQ(scene.objects.size(), 3u);
+  const ObjectConfig* box = scene.find_object("box");
+  ASSERT_NE(box, nullptr);
+  EXPECT_EQ(box->role, Role::kReal);
+  EXPECT_EQ(box->motion, Motion::kKinematic);
+  EXPECT_EQ(box->markers.size(), 5u);
+  // The marker on the +x face has its z axis along the box's +x.
+  EXPECT_LT((box->markers[1].X_OM.linear().col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+  EXPECT_EQ(scene.find_marker_owner("tag36h11", 2)->id, "table");
+  const ObjectConfig* bunny = scene.find_object("bunny");
+  EXPECT_EQ(bunny->collision.type, ShapeType::kMesh);
+  EXPECT_DOUBLE_EQ(bunny->collision.scale.x(), 0.8);
+  EXPECT_DOUBLE_EQ(*bunny->mass_kg, 0.2);
+  EXPECT_EQ(bunny->spawn_at_start.size(), 1u);
+  EXPECT_EQ(bunny->max_instances, 20);
+  EXPECT_EQ(scene.channels.world_state, "ARPHYS_WORLD_STATE");
+  EXPECT_NEAR(scene.gravity_m_s2.z(), -9.81, 0);
+}
+
+TEST(SceneConfig, SpoonTeacupLoads) {
+  const SceneConfig scene = load_scene(kConfigs + "scenes/spoon_teacup.yaml");
+  EXPECT_EQ(scene.name, "spoon_teacup");
+  EXPECT_EQ(scene.find_object("table")->collision.type, ShapeType::kPlane);
+  EXPECT_EQ(scene.find_object("table")->render.type, ShapeType::kBox);
+  EXPECT_EQ(scene.find_object("teacup")->motion, Motion::kStatic);
+  EXPECT_EQ(scene.find_object("spoon")->markers.size(), 1u);
+}
+
+// Writes a scene file next to the real models, with `object` as the only object
+// besides a valid table, and returns the ConfigError message from loading it.
+class BadScene : public ::testing::Test {
+ protected:
+  std::string load_error(const std::string& objects_yaml, const std::string& extra_top = "") {
+    path_ = ::testing::TempDir() + "bad_scene_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".yaml";
+    std::ofstream out(path_);
+    out << "name: bad\ncamera: " << kConfigs << "cameras/synthetic_640x480.yaml\n" << extra_top
+        << "objects:\n"
+           "  - id: table\n"
+           "    role: real\n"
+           "    motion: static\n"
+           "    collision: {shape: plane}\n"
+           "    markers:\n"
+           "      - {family: tag36h11, id: 0, size_m: 0.05, pose: {position_m: [0, 0, 0], orientation_wxyz: [1, 0, 0, 0]}}\n"
+        << objects_yaml;
+    out.close();
+    try {
+      load_scene(path_);
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.file(), path_);
+      return e.what();
+    }
+    ADD_FAILURE() << "scene loaded without error";
+    return "";
+  }
+  std::string path_;
+};
+
+TEST_F(BadScene, MissingMeshNamesFileKeyAndPath) {
+  const std::string message = load_error(
+      "  - id: cup\n    role: virtual\n    motion: static\n"
+      "    collision: {shape: mesh, mesh: no_such_cup.obj}\n");
+  EXPECT_NE(message.find(path_), std::string::npos) << message;
+  EXPECT_NE(message.find("objects[1].collision.mesh"), std::string::npos) << message;
+  EXPECT_NE(message.find("no_such_cup.obj"), std::string::npos) << message;
+  EXPECT_NE(message.find("not found"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, NegativeSizeNamesTheComponentAndValue) {
+  const std::string message = load_error(
+      "  - id: box\n    role: virtual\n    motion: dynamic\n"
+      "    collision: {shape: box, size_m: [0.1, -0.2, 0.1]}\n");
+  EXPECT_NE(message.find("objects[1].collision.size_m[1]"), std::string::npos) << message;
+  EXPECT_NE(message.find("got -0.2"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected a positive length in metres"), std::string::npos) << message;
+  EXPECT_NE(message.find(":13:"), std::string::npos) << "line number of the bad value: " << message;
+}
+
+TEST_F(BadScene, UnknownRoleListsTheChoices) {
+  const std::string message = load_error(
+      "  - id: box\n    role: imaginary\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n");
+  EXPECT_NE(message.find("objects[1].role"), std::string::npos) << message;
+  EXPECT_NE(message.find("'imaginary'"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected 'real' or 'virtual'"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, DuplicateMarkerAcrossObjectsNamesBothPlaces) {
+  const std::string message = load_error(
+      "  - id: box\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.1, 0.1, 0.1]}\n"
+      "    markers:\n"
+      "      - {family: tag36h11, id: 0, size_m: 0.05, pose: {position_m: [0, 0, 0.05], orientation_wxyz: [1, 0, 0, 0]}}\n");
+  EXPECT_NE(message.find("objects[1].markers[0].id"), std::string::npos) << message;
+  EXPECT_NE(message.find("duplicate marker tag36h11 id 0"), std::string::npos) << message;
+  EXPECT_NE(message.find("objects[0].markers[0]"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, NonUnitQuaternionGivesItsNorm) {
+  const std::string message = load_error(
+      "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n"
+      "    pose: {position_m: [0, 0, 1], orientation_wxyz: [1, 0.1, 0, 0]}\n");
+  EXPECT_NE(message.find("objects[1].pose.orientation_wxyz"), std::string::npos) << message;
+  EXPECT_NE(message.find("norm 1.00499"), std::string::npos) << message;
+  EXPECT_NE(message.find("expected a unit quaternion"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, UnknownKeyIsATypoNotADefault) {
+  const std::string message = load_error(
+      "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n"
+      "    restitutoin: 0.5\n");
+  EXPECT_NE(message.find("objects[1].restitutoin"), std::string::npos) << message;
+  EXPECT_NE(message.find("unknown key"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, RealDynamicObjectIsRejected) {
+  const std::string message = load_error(
+      "  - id: hand\n    role: real\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n");
+  EXPECT_NE(message.find("objects[1].motion"), std::string::npos) << message;
+}
+
+TEST_F(BadScene, RestitutionOutOfRange) {
+  const std::string message = load_error(
+      "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n"
+      "    restitution: 1.5\n");
+  EXPECT_NE(message.find("objects[1].restitution: got 1.5, expected a coefficient of restitution in [0, 1]"),
+            std::string::npos)
+      << message;
+}
+
+TEST_F(BadScene, UnknownShapeAndNonNumber) {
+  EXPECT_NE(load_error("  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: cylinder}\n")
+                .find("expected one of: plane, box, sphere, mesh"),
+            std::string::npos);
+  EXPECT_NE(load_error("  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: big}\n")
+                .find("objects[1].collision.radius_m: got 'big'"),
+            std::string::npos);
+}
+
+TEST_F(BadScene, DuplicateObjectId) {
+  const std::string message =
+      load_error("  - id: table\n    role: virtual\n    motion: static\n    collision: {shape: sphere, radius_m: 0.1}\n");
+  EXPECT_NE(message.find("duplicate object id 'table'"), std::string::npos) << message;
+}
+
+TEST(SceneConfigFile, MissingAndMalformedFiles) {
+  EXPECT_THROW(load_scene("/no/such/scene.yaml"), ConfigError);
+  const std::string path = ::testing::TempDir() + "malformed.yaml";
+  std::ofstream(path) << "name: [unclosed\nobjects: {\n";
+  try {
+    load_scene(path);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("not valid YAML"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace arphys::config

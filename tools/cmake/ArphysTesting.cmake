@@ -1,0 +1,20 @@
+# arphys_add_test(<name> LABEL <unit|integration|slow> SOURCES <...> LIBS <...>)
+# One GoogleTest executable per call; every test case is registered with ctest
+# under the given label so `ctest -L unit` etc. select them.
+function(arphys_add_test name)
+  cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  if(NOT ARG_LABEL MATCHES "^(unit|integration|slow)$")
+    message(FATAL_ERROR "arphys_add_test(${name}): LABEL must be unit, integration or slow")
+  endif()
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 300)
+  endif()
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_compile_definitions(${name} PRIVATE
+    ARPHYS_SOURCE_DIR="${ARPHYS_SOURCE_DIR}"
+    ARPHYS_BINARY_DIR="${CMAKE_BINARY_DIR}")
+  gtest_discover_tests(${name}
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT}
+    DISCOVERY_TIMEOUT 60)
+endfunction()
