@@ -1,0 +1,196 @@
+#include "simulator/collision/continuous_query.hpp"
+
+#include <algorithm>
+#include <queue>
+#include <vector>
+
+#include "simulator/collision/discrete_query.hpp"
+#include "simulator/collision/feature_toi.hpp"
+#include "simulator/collision/obb_culling.hpp"
+#include "simulator/collision/screw_enclosure.hpp"
+#include "simulator/collision/triangle_distance.hpp"
+
+namespace arphys::collision {
+
+namespace {
+
+struct Task {
+  int node_A, node_B;
+  double t0, t1;
+};
+struct LaterFirst {  // min-heap on the start of the time interval
+  bool operator()(const Task& x, const Task& y) const { return x.t0 > y.t0; }
+};
+
+class Search {
+ public:
+  Search(const CollisionMesh& A, const geometry::ScrewMotion& motion_A, const CollisionMesh& B,
+         const geometry::ScrewMotion& motion_B, const ContinuousOptions& options)
+      : A_(A), B_(B), rel_AB_(motion_A, motion_B), rel_BA_(motion_B, motion_A), options_(options) {}
+
+  // Earliest contact time in [0, 1], or kNoContact.
+  double run(ContinuousStats& stats, ContactFeatures& features) {
+    const auto& na = A_.tree().nodes();
+    const auto& nb = B_.tree().nodes();
+    std::priority_queue<Task, std::vector<Task>, LaterFirst> queue;
+    queue.push({0, 0, 0.0, 1.0});
+    double cached_t0 = -1, cached_t1 = -1;
+    MidRadMatrix R_AB;
+    while (!queue.empty()) {
+      const Task task = queue.top();
+      queue.pop();
+      if (task.t0 > best_) break;  // every remaining interval starts later
+      const Interval T{task.t0, std::min(task.t1, best_)};
+      if (T.lo != cached_t0 || T.hi != cached_t1) {
+        R_AB = rel_AB_.rotation_ball(T);
+        rotation_width_ = R_AB.rad.maxCoeff();
+        cached_t0 = T.lo, cached_t1 = T.hi;
+      }
+      const ObbNode& a = na[task.node_A];
+      const ObbNode& b = nb[task.node_B];
+      ++stats.node_pairs_tested;
+      const MidRadVector center = rel_AB_.point_ball(b.box.center, T);
+      if (obbs_separated(a.box, b.box, R_AB, center)) continue;
+      if (a.is_leaf() && b.is_leaf()) {
+        ++stats.triangle_pairs_tested;
+        triangle_pair(a.triangle, b.triangle, T);
+        continue;
+      }
+      const double size_a = a.is_leaf() ? 0.0 : a.box.half_extents_m.maxCoeff();
+      const double size_b = b.is_leaf() ? 0.0 : b.box.half_extents_m.maxCoeff();
+      // Split time when the motion over T, not the boxes, keeps the test from deciding:
+      // the spread of B's box over T (its center, and its corners turning) against the sizes.
+      const double motion_width = 2 * center.rad.maxCoeff() + 2 * rotation_width_ * b.box.half_extents_m.sum();
+      if (motion_width > options_.time_split_ratio * std::max(size_a, size_b) && T.width() > options_.min_culling_interval) {
+        ++stats.time_splits;
+        const double mid = T.mid();
+        queue.push({task.node_A, task.node_B, T.lo, mid});
+        queue.push({task.node_A, task.node_B, mid, T.hi});
+      } else if (size_a >= size_b) {
+        queue.push({a.first_child, task.node_B, T.lo, T.hi});
+        queue.push({a.first_child + 1, task.node_B, T.lo, T.hi});
+      } else {
+        queue.push({task.node_A, b.first_child, T.lo, T.hi});
+        queue.push({task.node_A, b.first_child + 1, T.lo, T.hi});
+      }
+    }
+    features = features_;
+    return best_;
+  }
+
+ private:
+  void triangle_pair(int tri_A, int tri_B, const Interval& T) {
+    Eigen::Vector3d a[3], b[3];
+    A_.corners(tri_A, a);
+    B_.corners(tri_B, b);
+    const FeatureContact contact =
+        triangle_pair_toi(rel_AB_, rel_BA_, a, b, {T.lo, std::min(T.hi, best_)}, options_.time_tolerance);
+    if (contact.time < best_) {
+      best_ = contact.time;
+      features_ = {contact.kind, tri_A, tri_B, contact.corner_A, contact.corner_B};
+    }
+  }
+
+  const CollisionMesh& A_;
+  const CollisionMesh& B_;
+  RelativeMotion rel_AB_, rel_BA_;
+  const ContinuousOptions& options_;
+  double best_ = kNoContact;
+  double rotation_width_ = 0;
+  ContactFeatures features_;
+};
+
+// Normal of a vertex meeting a triangle: the direction from the triangle's closest
+// point to the vertex just before the contact. Inside the face that is the face
+// normal; at the face's boundary (a vertex meeting an edge or another vertex) it is
+// the direction the two actually closed along, where the face normal of whichever
+// adjacent triangle was found first would be arbitrary. `sign` +1 when the vertex is
+// B's (normal from A to B), -1 when it is A's.
+Eigen::Vector3d approach_normal(const Eigen::Vector3d& vertex_W, const geometry::Pose& X_W_face,
+                                const Eigen::Vector3d corners[3], const Eigen::Vector3d& face_normal_W, double sign) {
+  Eigen::Vector3d c[3];
+  for (int k = 0; k < 3; ++k) c[k] = X_W_face * corners[k];
+  const Eigen::Vector3d away = vertex_W - closest_point_on_triangle(vertex_W, c[0], c[1], c[2]);
+  Eigen::Vector3d n = away.norm() > 1e-14 * (1 + vertex_W.norm()) ? away : face_normal_W;
+  if (n.dot(away) < 0) n = -n;
+  return sign * n.normalized();
+}
+
+// Contact point and normal (A towards B) of the features at time t, in the world.
+void describe_contact(const CollisionMesh& A, const geometry::ScrewMotion& motion_A, const CollisionMesh& B,
+                      const geometry::ScrewMotion& motion_B, double t, ContinuousResult& result) {
+  const ContactFeatures& f = result.features;
+  const geometry::Pose X_WA = motion_A.pose_at(t), X_WB = motion_B.pose_at(t);
+  // Just before the contact, to orient the normal from the side the features came from.
+  const double t_before = std::max(0.0, t - 1e-6);
+  const geometry::Pose X_WA_before = motion_A.pose_at(t_before), X_WB_before = motion_B.pose_at(t_before);
+  Eigen::Vector3d a[3], b[3];
+  A.corners(f.triangle_A, a);
+  B.corners(f.triangle_B, b);
+  auto orient = [](Eigen::Vector3d n, const Eigen::Vector3d& from_A_to_B) {
+    n.normalize();
+    return n.dot(from_A_to_B) < 0 ? Eigen::Vector3d(-n) : n;
+  };
+  switch (f.kind) {
+    case FeaturePair::kVertexFace: {
+      result.point_W = X_WB * b[f.corner_B];
+      const Eigen::Vector3d n = X_WA.linear() * (a[1] - a[0]).cross(a[2] - a[0]);
+      result.normal_W = approach_normal(X_WB_before * b[f.corner_B], X_WA_before, a, n, +1);
+      break;
+    }
+    case FeaturePair::kFaceVertex: {
+      result.point_W = X_WA * a[f.corner_A];
+      const Eigen::Vector3d n = X_WB.linear() * (b[1] - b[0]).cross(b[2] - b[0]);
+      result.normal_W = approach_normal(X_WA_before * a[f.corner_A], X_WB_before, b, n, -1);
+      break;
+    }
+    case FeaturePair::kEdgeEdge: {
+      const Eigen::Vector3d p0 = X_WA * a[f.corner_A], p1 = X_WA * a[(f.corner_A + 1) % 3];
+      const Eigen::Vector3d q0 = X_WB * b[f.corner_B], q1 = X_WB * b[(f.corner_B + 1) % 3];
+      Eigen::Vector3d cp, cq;
+      segment_segment_distance(p0, p1, q0, q1, &cp, &cq);
+      result.point_W = 0.5 * (cp + cq);
+      Eigen::Vector3d n = (p1 - p0).cross(q1 - q0);
+      Eigen::Vector3d cp0, cq0;
+      segment_segment_distance(X_WA_before * a[f.corner_A], X_WA_before * a[(f.corner_A + 1) % 3],
+                               X_WB_before * b[f.corner_B], X_WB_before * b[(f.corner_B + 1) % 3], &cp0, &cq0);
+      // Parallel edges have no common normal: use the direction they closed along.
+      if (n.norm() < 1e-9 * (p1 - p0).norm() * (q1 - q0).norm()) n = cq0 - cp0;
+      result.normal_W = orient(n, cq0 - cp0);
+      break;
+    }
+    case FeaturePair::kOverlapAtStart: {
+      Eigen::Vector3d pa;
+      for (auto& p : a) p = X_WA * p;
+      for (auto& p : b) p = X_WB * p;
+      triangle_triangle_distance(a, b, &pa, nullptr);
+      result.point_W = pa;
+      result.normal_W = ((a[1] - a[0]).cross(a[2] - a[0])).normalized();
+      break;
+    }
+    case FeaturePair::kNone: break;
+  }
+}
+
+}  // namespace
+
+ContinuousResult time_of_impact(const CollisionMesh& A, const geometry::ScrewMotion& motion_A, const CollisionMesh& B,
+                                const geometry::ScrewMotion& motion_B, const ContinuousOptions& options) {
+  ContinuousResult result;
+  if (const auto pair = find_intersection(A, motion_A.start(), B, motion_B.start())) {
+    result.collides = true;
+    result.time_of_impact = 0.0;
+    result.features = {FeaturePair::kOverlapAtStart, pair->triangle_A, pair->triangle_B, -1, -1};
+    describe_contact(A, motion_A, B, motion_B, 0.0, result);
+    return result;
+  }
+  Search search(A, motion_A, B, motion_B, options);
+  const double toi = search.run(result.stats, result.features);
+  if (toi == kNoContact) return result;
+  result.collides = true;
+  result.time_of_impact = std::clamp(toi, 0.0, 1.0);
+  describe_contact(A, motion_A, B, motion_B, result.time_of_impact, result);
+  return result;
+}
+
+}  // namespace arphys::collision

@@ -1,0 +1,48 @@
+#pragma once
+// Discrete (single pose) queries between two meshes: intersection, separation
+// distance, and the contact manifold the dynamics uses for resting contact.
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "simulator/collision/collision_mesh.hpp"
+#include "simulator/geometry/pose.hpp"
+
+namespace arphys::collision {
+
+struct TrianglePair {
+  int triangle_A = -1, triangle_B = -1;
+};
+
+// A pair of intersecting (or exactly touching) triangles, if any.
+std::optional<TrianglePair> find_intersection(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                                              const geometry::Pose& X_WB);
+inline bool intersects(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                       const geometry::Pose& X_WB) {
+  return find_intersection(A, X_WA, B, X_WB).has_value();
+}
+
+struct SeparationResult {
+  double distance_m = 0;  // 0 when the surfaces intersect
+  Eigen::Vector3d point_A_W = Eigen::Vector3d::Zero(), point_B_W = Eigen::Vector3d::Zero();
+  TrianglePair triangles;
+};
+// Smallest distance between the two surfaces. Pairs further apart than
+// `max_distance_m` are not examined; when nothing is closer, distance_m is infinity.
+SeparationResult separation(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                            const geometry::Pose& X_WB,
+                            double max_distance_m = std::numeric_limits<double>::infinity());
+
+struct ManifoldPoint {
+  Eigen::Vector3d point_A_W, point_B_W;  // closest points, world, metres
+  Eigen::Vector3d normal_W;              // unit, from A towards B
+  double distance_m;                     // >= 0; 0 when the triangles intersect
+  TrianglePair triangles;
+};
+// Every triangle pair closer than tolerance_m, with its closest points. The normal is
+// the direction between the closest points, or A's face normal when they coincide.
+std::vector<ManifoldPoint> contact_manifold(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                                            const geometry::Pose& X_WB, double tolerance_m);
+
+}  // namespace arphys::collision

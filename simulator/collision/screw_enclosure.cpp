@@ -1,0 +1,212 @@
+#include "simulator/collision/screw_enclosure.hpp"
+
+namespace arphys::collision {
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& u) {
+  Eigen::Matrix3d K;
+  K << 0, -u.z(), u.y(), u.z(), 0, -u.x(), -u.y(), u.x(), 0;
+  return K;
+}
+
+// libm sin (< 1 ulp) plus one division or multiplication: 4 ulps is a safe bound.
+constexpr double kUlps = 4.0;
+
+}  // namespace
+
+ScrewEnclosure::ScrewEnclosure(const geometry::ScrewMotion& motion, const geometry::Pose& X_WF) {
+  const Eigen::Matrix3d R_FW = X_WF.linear().transpose();
+  angle_ = motion.angle_rad();
+  axial_ = motion.axial_displacement_m();
+  axis_ = R_FW * motion.axis();
+  // World: velocity_of_point(p) = w u x p - k + s u, so k = s u - v(0).
+  const Eigen::Vector3d k_W = axial_ * motion.axis() - motion.velocity_of_point(Eigen::Vector3d::Zero());
+  // In F: v_F(y) = R_FW v_W(X_WF y)  =>  k_F = R_FW (k_W - w u_W x p_WF).
+  k_ = R_FW * (k_W - angle_ * motion.axis().cross(X_WF.translation()));
+}
+
+Eigen::Vector3d ScrewEnclosure::point_at(const Eigen::Vector3d& y, double t) const {
+  if (angle_ == 0) return y - t * k_ + (t * axial_) * axis_;
+  const double S = std::sin(angle_ * t) / angle_;
+  const double h = std::sin(0.5 * angle_ * t);
+  const double C = 2 * h * h / angle_;
+  const Eigen::Vector3d v = angle_ * axis_.cross(y) - k_;
+  return y + S * v + C * axis_.cross(v) + (t * axial_) * axis_;
+}
+
+Interval ScrewEnclosure::S_over(const Interval& T) const {
+  if (angle_ == 0) return T;
+  auto S = [&](double t) { return Interval::around(std::sin(angle_ * t) / angle_, kUlps); };
+  Interval out = hull(S(T.lo), S(T.hi));
+  // The maximum 1/w at w t = pi/2 (only when pi/2 lies inside w T).
+  if (angle_ * T.lo <= M_PI_2 + 1e-12 && angle_ * T.hi >= M_PI_2 - 1e-12) out.hi = interval_detail::up(1.0 / angle_);
+  return out;
+}
+
+Interval ScrewEnclosure::C_over(const Interval& T) const {
+  if (angle_ == 0) return Interval(0.0);
+  auto C = [&](double t) {
+    const double h = std::sin(0.5 * angle_ * t);
+    return Interval::around(2 * h * h / angle_, kUlps + 2);
+  };
+  return hull(C(T.lo), C(T.hi));  // increasing on [0, pi / w]
+}
+
+IVec3 ScrewEnclosure::point_over(const Eigen::Vector3d& y, const Interval& T) const {
+  return point_over(y, terms_over(T));
+}
+
+IVec3 ScrewEnclosure::point_over(const Eigen::Vector3d& y, const Terms& terms) const {
+  const Eigen::Vector3d along = axial_ * axis_;
+  if (angle_ == 0) return (terms.T * (along - k_)) + y;
+  const Eigen::Vector3d v = angle_ * axis_.cross(y) - k_;
+  return terms.S * v + terms.C * axis_.cross(v) + terms.T * along + y;
+}
+
+double ScrewEnclosure::speed_at(const Eigen::Vector3d& x) const {
+  return std::sqrt((angle_ * axis_.cross(x) - k_).squaredNorm() + axial_ * axial_);
+}
+
+Eigen::Matrix3d ScrewEnclosure::rotation_at(double t) const {
+  if (angle_ == 0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle_ * t, axis_).toRotationMatrix();
+}
+
+IMat3 ScrewEnclosure::rotation_over(const Interval& T) const { return rotation_over(terms_over(T)); }
+
+IMat3 ScrewEnclosure::rotation_over(const Terms& terms) const {
+  if (angle_ == 0) return IMat3::point(Eigen::Matrix3d::Identity());
+  // R = I + sin(wt) K + (1 - cos(wt)) K^2, with sin(wt) = w S and 1 - cos(wt) = w C.
+  const Interval sin_wt = angle_ * terms.S;
+  const Interval one_minus_cos = angle_ * terms.C;
+  const Eigen::Matrix3d K = skew(axis_), K2 = K * K;
+  IMat3 R;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) R.m[i][j] = K(i, j) * sin_wt + K2(i, j) * one_minus_cos + (i == j ? 1.0 : 0.0);
+  return R;
+}
+
+Eigen::Vector3d ScrewEnclosure::inverse_point_at(const Eigen::Vector3d& z, double t) const {
+  const Eigen::Vector3d origin = point_at(Eigen::Vector3d::Zero(), t);
+  return rotation_at(t).transpose() * (z - origin);
+}
+
+IVec3 ScrewEnclosure::inverse_point_over(const IVec3& z, const Interval& T) const {
+  const IVec3 origin = point_over(Eigen::Vector3d::Zero(), T);
+  if (angle_ == 0) return z - origin;
+  return rotation_over(T).transpose() * (z - origin);
+}
+
+RelativeMotion::RelativeMotion(const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B)
+    : X_FB_(motion_A.start().inverse() * motion_B.start()),
+      a_(motion_A, motion_A.start()),
+      b_(motion_B, motion_A.start()) {}
+
+Eigen::Vector3d RelativeMotion::point_at(const Eigen::Vector3d& p_B, double t) const {
+  const Eigen::Vector3d z = b_.point_at(X_FB_ * p_B, t);
+  return a_.is_identity() ? z : a_.inverse_point_at(z, t);
+}
+
+IVec3 RelativeMotion::point_over(const Eigen::Vector3d& p_B, const Interval& T) const {
+  const IVec3 z = b_.point_over(X_FB_ * p_B, T);
+  return a_.is_identity() ? z : a_.inverse_point_over(z, T);
+}
+
+Eigen::Matrix3d RelativeMotion::rotation_at(double t) const {
+  return a_.rotation_at(t).transpose() * b_.rotation_at(t) * X_FB_.linear();
+}
+
+RelativeMotion::Terms RelativeMotion::terms_over(const Interval& T) const {
+  Terms terms;
+  terms.a = a_.terms_over(T);
+  terms.b = b_.terms_over(T);
+  const IMat3 rb = b_.rotation_over(terms.b) * Eigen::Matrix3d(X_FB_.linear());
+  if (a_.rotates()) {
+    terms.R_a_T = a_.rotation_over(terms.a).transpose();
+    terms.R_AB = terms.R_a_T * rb;
+  } else {
+    terms.R_AB = rb;
+  }
+  terms.origin_a = a_.point_over(Eigen::Vector3d::Zero(), terms.a);
+  return terms;
+}
+
+IVec3 RelativeMotion::point_over(const Eigen::Vector3d& p_B, const Terms& terms) const {
+  const IVec3 z = b_.point_over(X_FB_ * p_B, terms.b);
+  if (a_.is_identity()) return z;
+  if (!a_.rotates()) return z - terms.origin_a;
+  return terms.R_a_T * (z - terms.origin_a);
+}
+
+namespace {
+// Half-width of T around its midpoint, rounded up.
+double half_width(const Interval& T, double mid) { return interval_detail::up(std::max(T.hi - mid, mid - T.lo)); }
+constexpr double kRoundingSlack = 1e-12;
+}  // namespace
+
+Interval MovingPoint::project(const Eigen::Vector3d& L, double offset) const {
+  const double value = L.dot(mid) - offset;
+  const double norm_L = L.norm();
+  const double radius = half_width * (std::abs(L.dot(velocity)) + norm_L * velocity_rad) + norm_L * rounding;
+  // The dot products are rounded within 3 ulps of the sum of their terms' magnitudes.
+  const double slack = 1e-15 * (L.cwiseAbs().dot(mid.cwiseAbs()) + std::abs(offset) +
+                                half_width * L.cwiseAbs().dot(velocity.cwiseAbs()));
+  const double r = interval_detail::up(radius * (1 + 1e-12) + slack);
+  return {interval_detail::down(value - r), interval_detail::up(value + r)};
+}
+
+MidRadVector MovingPoint::ball() const {
+  MidRadVector out;
+  out.mid = mid;
+  for (int i = 0; i < 3; ++i)
+    out.rad[i] = interval_detail::up((half_width * (std::abs(velocity[i]) + velocity_rad) + rounding) * (1 + 1e-12));
+  return out;
+}
+
+MovingPoint RelativeMotion::moving_point(const Eigen::Vector3d& p_B, const Interval& T) const {
+  // In frame F, B's point is at x(t) = D_B(t) y with speed |v_B(y)| (constant), and
+  // p(t) = R_A(t)^T (x(t) - o_A(t)) in A's frame, so
+  //   p'  = R_A^T g(x),  g(x) = v_B(x) - v_A(x) = (w_B - w_A) x x + (c_B - c_A),
+  //   p'' = R_A^T (-w_A x g(x) + (w_B - w_A) x x'),
+  // which bounds |p'(t) - p'(tm)| by h (|w_A| max|g| + |w_B - w_A| speed_B).
+  MovingPoint out;
+  const double tm = T.mid();
+  out.half_width = half_width(T, tm);
+  const double h = out.half_width;
+  const Eigen::Vector3d y = X_FB_ * p_B;
+  const Eigen::Vector3d x = b_.point_at(y, tm);
+  const double speed_B = b_.speed_at(y);
+  const Eigen::Vector3d delta_omega = b_.omega() - a_.omega();
+  const Eigen::Vector3d g = delta_omega.cross(x) + (b_.linear_velocity() - a_.linear_velocity());
+  const double dw = delta_omega.norm();
+  if (a_.is_identity()) {
+    out.mid = x;
+    out.velocity = g;
+    out.velocity_rad = h * dw * speed_B;
+  } else {
+    out.mid = a_.inverse_point_at(x, tm);
+    out.velocity = a_.rotation_at(tm).transpose() * g;
+    out.velocity_rad = h * (a_.angle_rad() * (g.norm() + dw * speed_B * h) + dw * speed_B);
+  }
+  out.velocity_rad = interval_detail::up(out.velocity_rad * (1 + kRoundingSlack) + kRoundingSlack * g.norm());
+  const double scale = y.lpNorm<Eigen::Infinity>() + x.lpNorm<Eigen::Infinity>() + out.mid.lpNorm<Eigen::Infinity>();
+  out.rounding = kRoundingSlack * scale;
+  return out;
+}
+
+MidRadMatrix RelativeMotion::rotation_ball(const Interval& T) const {
+  const double tm = T.mid(), h = half_width(T, tm);
+  MidRadMatrix out;
+  out.mid = rotation_at(tm);
+  // Each column turns by at most (w_A + w_B) |t - tm|.
+  out.rad.setConstant(interval_detail::up(h * (a_.angle_rad() + b_.angle_rad()) * (1 + kRoundingSlack) + kRoundingSlack));
+  return out;
+}
+
+IMat3 RelativeMotion::rotation_over(const Interval& T) const {
+  const IMat3 rb = b_.rotation_over(T) * Eigen::Matrix3d(X_FB_.linear());
+  if (!a_.rotates()) return rb;
+  return a_.rotation_over(T).transpose() * rb;
+}
+
+}  // namespace arphys::collision

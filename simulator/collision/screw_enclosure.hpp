@@ -1,0 +1,123 @@
+#pragma once
+// Interval enclosures of points moving under a screw motion, for the continuous tests.
+//
+// A screw displacement maps a point y (fixed frame F) at time t to
+//   D(t) y = y + S(t) v(y) + C(t) u x v(y) + t s u,    v(y) = w u x y - k,
+// with S(t) = sin(w t) / w and C(t) = (1 - cos(w t)) / w = 2 sin^2(w t / 2) / w.
+// v(y) is the point's velocity normal to the axis (constant in F), so every term is
+// bounded as w -> 0 (S -> t, C -> 0): no axis point at infinity, no special case
+// for pure translation. With w in [0, pi] and t in [0, 1], C is increasing and S has
+// at most one maximum (at w t = pi / 2), so the enclosures of S and C over a time
+// interval are their end values (plus that maximum): tight, not just valid.
+#include <Eigen/Geometry>
+
+#include "simulator/collision/interval.hpp"
+#include "simulator/geometry/screw_motion.hpp"
+
+namespace arphys::collision {
+
+// A point's path over a time interval T = [tm - h, tm + h] to first order: p(t) lies
+// within (t - tm) (velocity +- velocity_rad) of mid. Linear functionals of it are
+// then enclosed to second order, which keeps a point sliding parallel to a face (zero
+// normal velocity) from looking like a root at every scale.
+struct MovingPoint {
+  Eigen::Vector3d mid;           // p(tm), metres
+  Eigen::Vector3d velocity;      // p'(tm), metres per unit t
+  double velocity_rad = 0;       // bound on |p'(t) - p'(tm)| over T
+  double half_width = 0;         // h
+  double rounding = 0;           // bound on the rounding error of mid
+
+  // Enclosure of L . p(t) - offset over T.
+  Interval project(const Eigen::Vector3d& L, double offset) const;
+  // Componentwise enclosure of p(t) over T.
+  MidRadVector ball() const;
+};
+
+class ScrewEnclosure {
+ public:
+  // The screw of `motion` (world frame) expressed in frame F, given X_WF.
+  ScrewEnclosure(const geometry::ScrewMotion& motion, const geometry::Pose& X_WF);
+  ScrewEnclosure() = default;  // identity motion
+
+  bool is_identity() const { return angle_ == 0 && axial_ == 0 && k_.isZero(0); }
+  bool rotates() const { return angle_ != 0; }
+
+  // The time-dependent factors of D(t) enclosed over a time interval T, computed once
+  // and shared by every point evaluated over T.
+  struct Terms {
+    Interval T, S, C;
+  };
+  Terms terms_over(const Interval& T) const { return {T, S_over(T), C_over(T)}; }
+  IVec3 point_over(const Eigen::Vector3d& y, const Terms& terms) const;
+  IMat3 rotation_over(const Terms& terms) const;
+
+  // Speed (metres per unit t) of the body point at x: constant along its path.
+  double speed_at(const Eigen::Vector3d& x) const;
+  double angle_rad() const { return angle_; }
+  // The screw's velocity field v(x) = omega x x + linear, constant in frame F.
+  Eigen::Vector3d omega() const { return angle_ * axis_; }
+  Eigen::Vector3d linear_velocity() const { return axial_ * axis_ - k_; }
+
+  // D(t) y, exactly in double precision.
+  Eigen::Vector3d point_at(const Eigen::Vector3d& y, double t) const;
+  // Enclosure of { D(t) y : t in T }, T a subset of [0, 1].
+  IVec3 point_over(const Eigen::Vector3d& y, const Interval& T) const;
+  // The rotation part of D(t), and its enclosure over T.
+  Eigen::Matrix3d rotation_at(double t) const;
+  IMat3 rotation_over(const Interval& T) const;
+  // Enclosure of D(t)^-1 z over T for z known to lie in the box `z` at each such t.
+  IVec3 inverse_point_over(const IVec3& z, const Interval& T) const;
+  Eigen::Vector3d inverse_point_at(const Eigen::Vector3d& z, double t) const;
+
+ private:
+  Interval S_over(const Interval& T) const;
+  Interval C_over(const Interval& T) const;
+
+  Eigen::Vector3d axis_{0, 0, 1};  // u, in F
+  double angle_ = 0;               // w, radians over t in [0, 1]
+  double axial_ = 0;               // s, metres over t in [0, 1]
+  Eigen::Vector3d k_{0, 0, 0};     // w u x c (c: a point of the axis), in F
+};
+
+// The motion of body B seen from body A: for points of B (in B's body frame) their
+// positions in A's body frame over time, both bodies moving on their own screws.
+// Exact when A does not rotate; when both rotate the enclosures compose A's inverse
+// rotation enclosure and stay valid, only looser.
+class RelativeMotion {
+ public:
+  RelativeMotion(const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B);
+
+  // Everything that depends on T only, for evaluating many points over the same T.
+  struct Terms {
+    ScrewEnclosure::Terms a, b;
+    IMat3 R_a_T;    // A's rotation over T, transposed (unused when A does not rotate)
+    IVec3 origin_a; // A's displacement of the origin over T
+    IMat3 R_AB;     // B's rotation in A's frame over T
+  };
+  Terms terms_over(const Interval& T) const;
+  IVec3 point_over(const Eigen::Vector3d& p_B, const Terms& terms) const;
+
+  // Centered enclosures over T (midpoint-radius): the value at T's midpoint and a
+  // radius from a bound on the speed, |p(t) - p(tm)| <= max|p'| |t - tm| (a chord is
+  // never longer than its arc). First-order tight and much cheaper than the natural
+  // interval extension; the radius covers the rounding of the midpoint value.
+  MovingPoint moving_point(const Eigen::Vector3d& p_B, const Interval& T) const;
+  MidRadVector point_ball(const Eigen::Vector3d& p_B, const Interval& T) const { return moving_point(p_B, T).ball(); }
+  MidRadMatrix rotation_ball(const Interval& T) const;
+
+  // X_AB(t) applied to p_B.
+  Eigen::Vector3d point_at(const Eigen::Vector3d& p_B, double t) const;
+  IVec3 point_over(const Eigen::Vector3d& p_B, const Interval& T) const;
+  // R_AB(t) and its enclosure.
+  Eigen::Matrix3d rotation_at(double t) const;
+  IMat3 rotation_over(const Interval& T) const;
+  // Transform of B's body frame into frame F = A's body frame at t = 0 (constant).
+  const geometry::Pose& X_FB() const { return X_FB_; }
+  bool both_rotate() const { return a_.rotates() && b_.rotates(); }
+
+ private:
+  geometry::Pose X_FB_;  // X_A0^-1 X_B0
+  ScrewEnclosure a_, b_;  // A's and B's screws in F
+};
+
+}  // namespace arphys::collision

@@ -1,0 +1,52 @@
+#include "simulator/collision/discrete_query.hpp"
+
+#include <gtest/gtest.h>
+
+#include "simulator/collision/triangle_distance.hpp"
+
+namespace arphys::collision {
+namespace {
+
+TEST(DiscreteQuery, SeparationBetweenCubesIsTheGapAndIntersectionIsDetected) {
+  const CollisionMesh cube(geometry::make_box_mesh({0.2, 0.2, 0.2}));
+  const auto far = separation(cube, geometry::Pose::Identity(), cube, geometry::translation_pose({0.5, 0.05, 0}));
+  EXPECT_NEAR(far.distance_m, 0.3, 1e-12);
+  EXPECT_NEAR((far.point_B_W - far.point_A_W).norm(), 0.3, 1e-12);
+  EXPECT_FALSE(intersects(cube, geometry::Pose::Identity(), cube, geometry::translation_pose({0.5, 0.05, 0})));
+  EXPECT_TRUE(intersects(cube, geometry::Pose::Identity(), cube, geometry::translation_pose({0.15, 0.05, 0.02})));
+  // Rotated 45 deg about z: the corner comes 0.1 * sqrt(2) closer.
+  geometry::Pose turned = geometry::rotation_pose(Eigen::Vector3d::UnitZ(), M_PI / 4);
+  turned.translation() = Eigen::Vector3d(0.5, 0, 0);
+  EXPECT_NEAR(separation(cube, geometry::Pose::Identity(), cube, turned).distance_m, 0.4 - 0.1 * std::sqrt(2.0), 1e-12);
+  // Beyond max_distance_m nothing is examined.
+  EXPECT_TRUE(std::isinf(
+      separation(cube, geometry::Pose::Identity(), cube, geometry::translation_pose({0.5, 0, 0}), 0.1).distance_m));
+}
+
+TEST(DiscreteQuery, ManifoldOfACubeRestingOnACubeCoversTheContactFace) {
+  const CollisionMesh base(geometry::make_box_mesh({1, 1, 0.2})), cube(geometry::make_box_mesh({0.2, 0.2, 0.2}));
+  // Resting 0.5 mm above the base's top face (z = 0.1), tolerance 1 mm.
+  const auto points = contact_manifold(base, geometry::Pose::Identity(), cube, geometry::translation_pose({0, 0, 0.2005}), 1e-3);
+  ASSERT_GE(points.size(), 4u);
+  Eigen::AlignedBox3d spread;
+  for (const auto& p : points) {
+    EXPECT_NEAR(p.distance_m, 5e-4, 1e-12);
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-9);
+    spread.extend(p.point_B_W);
+  }
+  // The points span the whole 0.2 x 0.2 bottom face, so the support is stable.
+  EXPECT_NEAR(spread.sizes().x(), 0.2, 1e-9);
+  EXPECT_NEAR(spread.sizes().y(), 0.2, 1e-9);
+  EXPECT_TRUE(contact_manifold(base, geometry::Pose::Identity(), cube, geometry::translation_pose({0, 0, 0.21}), 1e-3).empty());
+}
+
+TEST(TriangleDistance, CrossingTrianglesAreAtZeroDistance) {
+  const Eigen::Vector3d a[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const Eigen::Vector3d b[3] = {{0.2, 0.2, -1}, {0.2, 0.2, 1}, {0.3, 0.9, 0.5}};  // pierces a
+  EXPECT_EQ(triangle_triangle_distance(a, b), 0.0);
+  const Eigen::Vector3d c[3] = {{0.2, 0.2, 0.5}, {0.2, 0.3, 1}, {0.3, 0.9, 0.5}};
+  EXPECT_NEAR(triangle_triangle_distance(a, c), 0.5, 1e-15);
+}
+
+}  // namespace
+}  // namespace arphys::collision
