@@ -1,7 +1,6 @@
 #include "simulator/collision/continuous_query.hpp"
 
 #include <algorithm>
-#include <queue>
 #include <vector>
 
 #include "simulator/collision/discrete_query.hpp"
@@ -17,6 +16,7 @@ namespace {
 struct Task {
   int node_A, node_B;
   double t0, t1;
+  int snapshot;  // index of the relative motion's snapshot over [t0, t1]
 };
 struct LaterFirst {  // min-heap on the start of the time interval
   bool operator()(const Task& x, const Task& y) const { return x.t0 > y.t0; }
@@ -32,25 +32,33 @@ class Search {
   double run(ContinuousStats& stats, ContactFeatures& features) {
     const auto& na = A_.tree().nodes();
     const auto& nb = B_.tree().nodes();
-    std::priority_queue<Task, std::vector<Task>, LaterFirst> queue;
-    queue.push({0, 0, 0.0, 1.0});
-    double cached_t0 = -1, cached_t1 = -1;
-    MidRadMatrix R_AB;
-    while (!queue.empty()) {
-      const Task task = queue.top();
-      queue.pop();
+    // The queue and the snapshots live in per-thread buffers reused across queries:
+    // allocating them afresh costs more than a small query.
+    thread_local std::vector<Task> heap;
+    heap.clear();
+    auto push = [&](const Task& t) {
+      heap.push_back(t);
+      std::push_heap(heap.begin(), heap.end(), LaterFirst{});
+    };
+    // Snapshots of the relative motion, one per time interval the culling creates; the
+    // tasks refer to them by index. A snapshot over a longer interval than a task's
+    // (after best_ shrank) stays a valid, slightly looser, enclosure.
+    thread_local std::vector<RelativeMotion::Snapshot> snapshots;
+    snapshots.clear();
+    snapshots.push_back(rel_AB_.snapshot({0.0, 1.0}));
+    push({0, 0, 0.0, 1.0, 0});
+    while (!heap.empty()) {
+      std::pop_heap(heap.begin(), heap.end(), LaterFirst{});
+      const Task task = heap.back();
+      heap.pop_back();
       if (task.t0 > best_) break;  // every remaining interval starts later
       const Interval T{task.t0, std::min(task.t1, best_)};
-      if (T.lo != cached_t0 || T.hi != cached_t1) {
-        R_AB = rel_AB_.rotation_ball(T);
-        rotation_width_ = R_AB.rad.maxCoeff();
-        cached_t0 = T.lo, cached_t1 = T.hi;
-      }
+      const RelativeMotion::Snapshot& snapshot = snapshots[task.snapshot];
       const ObbNode& a = na[task.node_A];
       const ObbNode& b = nb[task.node_B];
       ++stats.node_pairs_tested;
-      const MidRadVector center = rel_AB_.point_ball(b.box.center, T);
-      if (obbs_separated(a.box, b.box, R_AB, center)) continue;
+      const MovingPoint center = rel_AB_.moving_point(b.box.center, snapshot);
+      if (obbs_separated(a.box, b.box, snapshot.R_AB.mid, center, angular_speed_)) continue;
       if (a.is_leaf() && b.is_leaf()) {
         ++stats.triangle_pairs_tested;
         triangle_pair(a.triangle, b.triangle, T);
@@ -60,18 +68,21 @@ class Search {
       const double size_b = b.is_leaf() ? 0.0 : b.box.half_extents_m.maxCoeff();
       // Split time when the motion over T, not the boxes, keeps the test from deciding:
       // the spread of B's box over T (its center, and its corners turning) against the sizes.
-      const double motion_width = 2 * center.rad.maxCoeff() + 2 * rotation_width_ * b.box.half_extents_m.sum();
+      const double motion_width = 2 * obb_sweep_m(b.box, center, angular_speed_);
       if (motion_width > options_.time_split_ratio * std::max(size_a, size_b) && T.width() > options_.min_culling_interval) {
         ++stats.time_splits;
         const double mid = T.mid();
-        queue.push({task.node_A, task.node_B, T.lo, mid});
-        queue.push({task.node_A, task.node_B, mid, T.hi});
+        const int first = static_cast<int>(snapshots.size());
+        snapshots.push_back(rel_AB_.snapshot({T.lo, mid}));
+        snapshots.push_back(rel_AB_.snapshot({mid, T.hi}));
+        push({task.node_A, task.node_B, T.lo, mid, first});
+        push({task.node_A, task.node_B, mid, T.hi, first + 1});
       } else if (size_a >= size_b) {
-        queue.push({a.first_child, task.node_B, T.lo, T.hi});
-        queue.push({a.first_child + 1, task.node_B, T.lo, T.hi});
+        push({a.first_child, task.node_B, T.lo, T.hi, task.snapshot});
+        push({a.first_child + 1, task.node_B, T.lo, T.hi, task.snapshot});
       } else {
-        queue.push({task.node_A, b.first_child, T.lo, T.hi});
-        queue.push({task.node_A, b.first_child + 1, T.lo, T.hi});
+        push({task.node_A, b.first_child, T.lo, T.hi, task.snapshot});
+        push({task.node_A, b.first_child + 1, T.lo, T.hi, task.snapshot});
       }
     }
     features = features_;
@@ -96,7 +107,7 @@ class Search {
   RelativeMotion rel_AB_, rel_BA_;
   const ContinuousOptions& options_;
   double best_ = kNoContact;
-  double rotation_width_ = 0;
+  double angular_speed_ = rel_AB_.angular_speed();
   ContactFeatures features_;
 };
 

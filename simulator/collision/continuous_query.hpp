@@ -30,7 +30,7 @@ struct ContinuousOptions {
   double min_culling_interval = 1.0 / 4096;
   // The culling halves the time interval when B's box sweeps more than this many
   // times the larger box's half extent over it, and splits a box otherwise.
-  double time_split_ratio = 0.25;
+  double time_split_ratio = 1.0;
 };
 
 struct ContinuousStats {

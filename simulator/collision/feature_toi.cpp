@@ -64,21 +64,23 @@ class TrianglePairSearch {
       : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b), tolerance_(tolerance) {}
 
   FeatureContact search(const Interval& T, uint32_t alive) const {
+    const RelativeMotion::Snapshot snapshot_AB = rel_AB_.snapshot(T);
     IVec3 PB[3];  // boxes of B's corners in A's frame
     for (int k = 0; k < 3; ++k) {
-      const MovingPoint p = rel_AB_.moving_point(B_.corner[k], T);
+      const MovingPoint p = rel_AB_.moving_point(B_.corner[k], snapshot_AB);
       PB[k] = p.ball().to_interval();
       if ((alive >> k & 1) && !A_.may_touch(p, PB[k])) alive &= ~(1u << k);
     }
     if (alive & kFaceVertexBits) {
+      const RelativeMotion::Snapshot snapshot_BA = rel_BA_.snapshot(T);
       for (int k = 0; k < 3; ++k) {
         if (!(alive >> (3 + k) & 1)) continue;
-        const MovingPoint p = rel_BA_.moving_point(A_.corner[k], T);
+        const MovingPoint p = rel_BA_.moving_point(A_.corner[k], snapshot_BA);
         if (!B_.may_touch(p, p.ball().to_interval())) alive &= ~(1u << (3 + k));
       }
     }
     if (alive >> 6) {
-      const IMat3 R_AB = rel_AB_.rotation_ball(T).to_interval();
+      const IMat3 R_AB = snapshot_AB.R_AB.to_interval();
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           const int bit = 6 + 3 * i + j;

@@ -11,6 +11,8 @@ inline double round_up_sum(double s) { return s * (1 + 1e-14) + 1e-300; }
 }  // namespace
 
 namespace {
+// Every quantity below is a sum of at most a dozen products of doubles, each within a
+// few ulps; a relative slack of 1e-13 on both sides of a comparison covers them.
 constexpr double kSlack = 1e-13;
 // |x| >= lower and the bound r: separated when lower certainly exceeds r.
 inline bool exceeds(double mid_abs, double rad, double r) {
@@ -18,37 +20,46 @@ inline bool exceeds(double mid_abs, double rad, double r) {
 }
 }  // namespace
 
-bool obbs_separated(const Obb& a, const Obb& b, const MidRadMatrix& R_AB, const MidRadVector& b_center_A) {
-  // Everything in A's box frame: d = center offset, C = B's box axes.
+bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, const MovingPoint& center,
+                    double angular_speed) {
+  // Everything in A's box frame: d = center offset and v = its velocity at tm, C = B's box axes.
   const Eigen::Matrix3d Ea_T = a.axes.transpose();
-  const Eigen::Matrix3d C = Ea_T * (R_AB.mid * b.axes);
-  const Eigen::Matrix3d C_rad = Ea_T.cwiseAbs() * (R_AB.rad * b.axes.cwiseAbs());
-  const Eigen::Vector3d d = Ea_T * (b_center_A.mid - a.center);
-  const Eigen::Vector3d d_rad = Ea_T.cwiseAbs() * b_center_A.rad;
-  const Eigen::Matrix3d absC = C.cwiseAbs() + C_rad;  // bounds |C(t)|
-  const Eigen::Vector3d abs_d = d.cwiseAbs();
+  const Eigen::Matrix3d C = Ea_T * (R_AB * b.axes);
+  const Eigen::Vector3d d = Ea_T * (center.mid - a.center);
+  const Eigen::Vector3d v = Ea_T * center.velocity;
+  const double h = center.half_width;
+  // Sweep per unit |L| from turning and from the velocity's change, plus rounding of mid.
+  const double isotropic = h * (center.velocity_rad + angular_speed * b.half_extents_m.norm()) + center.rounding;
+  const Eigen::Matrix3d absC = C.cwiseAbs();
   const Eigen::Vector3d& ha = a.half_extents_m;
   const Eigen::Vector3d& hb = b.half_extents_m;
 
-  for (int i = 0; i < 3; ++i)  // A's axes
-    if (exceeds(abs_d[i], d_rad[i], ha[i] + absC.row(i).dot(hb))) return true;
-  for (int j = 0; j < 3; ++j) {  // B's axes: sum_i C_ij d_i
-    const double mid = std::abs(C.col(j).dot(d));
-    const double rad = C.col(j).cwiseAbs().dot(d_rad) + C_rad.col(j).dot(abs_d + d_rad);
-    if (exceeds(mid, rad, absC.col(j).dot(ha) + hb[j])) return true;
+  for (int i = 0; i < 3; ++i) {  // A's axes
+    const double r = ha[i] + absC.row(i).dot(hb) + h * std::abs(v[i]) + isotropic;
+    if (exceeds(std::abs(d[i]), 0.0, r)) return true;
   }
-  for (int i = 0; i < 3; ++i) {  // a_i x b_j: pointwise identities of the orthonormal C(t)
+  for (int j = 0; j < 3; ++j) {  // B's axes at tm
+    const double r = absC.col(j).dot(ha) + hb[j] + h * std::abs(C.col(j).dot(v)) + isotropic;
+    if (exceeds(std::abs(C.col(j).dot(d)), 0.0, r)) return true;
+  }
+  for (int i = 0; i < 3; ++i) {  // a_i x b_j, |L| = sqrt(1 - C_ij^2)
     const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
       const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-      const double mid = std::abs(d[i2] * C(i1, j) - d[i1] * C(i2, j));
-      const double rad = abs_d[i2] * C_rad(i1, j) + d_rad[i2] * absC(i1, j) + abs_d[i1] * C_rad(i2, j) +
-                         d_rad[i1] * absC(i2, j);
-      const double r = ha[i1] * absC(i2, j) + ha[i2] * absC(i1, j) + hb[j1] * absC(i, j2) + hb[j2] * absC(i, j1);
-      if (exceeds(mid, rad, r)) return true;
+      const double proj = d[i2] * C(i1, j) - d[i1] * C(i2, j);
+      const double speed = std::abs(v[i2] * C(i1, j) - v[i1] * C(i2, j));
+      const double norm_L = std::sqrt(std::max(0.0, 1 - C(i, j) * C(i, j))) + 1e-15;
+      const double r = ha[i1] * absC(i2, j) + ha[i2] * absC(i1, j) + hb[j1] * absC(i, j2) + hb[j2] * absC(i, j1) +
+                       h * speed + norm_L * isotropic;
+      if (exceeds(std::abs(proj), 0.0, r)) return true;
     }
   }
   return false;
+}
+
+double obb_sweep_m(const Obb& b, const MovingPoint& center, double angular_speed) {
+  return center.half_width *
+         (center.velocity.norm() + center.velocity_rad + angular_speed * b.half_extents_m.norm());
 }
 
 bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, const Eigen::Vector3d& p_AB,

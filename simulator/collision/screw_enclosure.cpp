@@ -100,7 +100,14 @@ IVec3 ScrewEnclosure::inverse_point_over(const IVec3& z, const Interval& T) cons
 RelativeMotion::RelativeMotion(const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B)
     : X_FB_(motion_A.start().inverse() * motion_B.start()),
       a_(motion_A, motion_A.start()),
-      b_(motion_B, motion_A.start()) {}
+      b_(motion_B, motion_A.start()) {
+  omega_B_ = b_.omega();
+  c_B_ = b_.linear_velocity();
+  delta_omega_ = b_.omega() - a_.omega();
+  delta_c_ = b_.linear_velocity() - a_.linear_velocity();
+  delta_omega_norm_ = interval_detail::up(delta_omega_.norm() * (1 + 1e-12));
+  omega_A_norm_ = a_.angle_rad();
+}
 
 Eigen::Vector3d RelativeMotion::point_at(const Eigen::Vector3d& p_B, double t) const {
   const Eigen::Vector3d z = b_.point_at(X_FB_ * p_B, t);
@@ -163,43 +170,57 @@ MidRadVector MovingPoint::ball() const {
   return out;
 }
 
-MovingPoint RelativeMotion::moving_point(const Eigen::Vector3d& p_B, const Interval& T) const {
-  // In frame F, B's point is at x(t) = D_B(t) y with speed |v_B(y)| (constant), and
+RelativeMotion::Snapshot RelativeMotion::snapshot(const Interval& T) const {
+  Snapshot s;
+  s.T = T;
+  s.tm = T.mid();
+  s.h = half_width(T, s.tm);
+  geometry::Pose D_b = geometry::Pose::Identity();
+  D_b.linear() = b_.rotation_at(s.tm);
+  D_b.translation() = b_.point_at(Eigen::Vector3d::Zero(), s.tm);
+  s.X_FB = D_b * X_FB_;
+  if (a_.is_identity()) {
+    s.R_AF.setIdentity();
+    s.X_AB = s.X_FB;
+  } else {
+    geometry::Pose D_a = geometry::Pose::Identity();
+    D_a.linear() = a_.rotation_at(s.tm);
+    D_a.translation() = a_.point_at(Eigen::Vector3d::Zero(), s.tm);
+    s.R_AF = D_a.linear().transpose();
+    s.X_AB = D_a.inverse(Eigen::Isometry) * s.X_FB;
+  }
+  s.R_AB.mid = s.X_AB.linear();
+  s.translation_scale = s.X_AB.translation().cwiseAbs().sum() + X_FB_.translation().cwiseAbs().sum() +
+                        s.X_FB.translation().cwiseAbs().sum();
+  // Each column turns by at most (w_A + w_B) |t - tm|.
+  s.R_AB.rad.setConstant(
+      interval_detail::up(s.h * (a_.angle_rad() + b_.angle_rad()) * (1 + kRoundingSlack) + kRoundingSlack));
+  return s;
+}
+
+MovingPoint RelativeMotion::moving_point(const Eigen::Vector3d& p_B, const Snapshot& s) const {
+  // In frame F, B's point is at x(t) with speed |v_B(x)| (constant along its path), and
   // p(t) = R_A(t)^T (x(t) - o_A(t)) in A's frame, so
   //   p'  = R_A^T g(x),  g(x) = v_B(x) - v_A(x) = (w_B - w_A) x x + (c_B - c_A),
   //   p'' = R_A^T (-w_A x g(x) + (w_B - w_A) x x'),
   // which bounds |p'(t) - p'(tm)| by h (|w_A| max|g| + |w_B - w_A| speed_B).
   MovingPoint out;
-  const double tm = T.mid();
-  out.half_width = half_width(T, tm);
-  const double h = out.half_width;
-  const Eigen::Vector3d y = X_FB_ * p_B;
-  const Eigen::Vector3d x = b_.point_at(y, tm);
-  const double speed_B = b_.speed_at(y);
-  const Eigen::Vector3d delta_omega = b_.omega() - a_.omega();
-  const Eigen::Vector3d g = delta_omega.cross(x) + (b_.linear_velocity() - a_.linear_velocity());
-  const double dw = delta_omega.norm();
+  out.half_width = s.h;
+  const double h = s.h;
+  const Eigen::Vector3d x = s.X_FB * p_B;
+  const Eigen::Vector3d g = delta_omega_.cross(x) + delta_c_;
+  out.mid = s.X_AB * p_B;
   if (a_.is_identity()) {
-    out.mid = x;
-    out.velocity = g;
-    out.velocity_rad = h * dw * speed_B;
+    out.velocity = g;  // = v_B(x)
+    out.velocity_rad = h * delta_omega_norm_ * g.norm();
   } else {
-    out.mid = a_.inverse_point_at(x, tm);
-    out.velocity = a_.rotation_at(tm).transpose() * g;
-    out.velocity_rad = h * (a_.angle_rad() * (g.norm() + dw * speed_B * h) + dw * speed_B);
+    const double speed_B = (omega_B_.cross(x) + c_B_).norm();
+    const double g_norm = g.norm();
+    out.velocity = s.R_AF * g;
+    out.velocity_rad = h * (omega_A_norm_ * (g_norm + delta_omega_norm_ * speed_B * h) + delta_omega_norm_ * speed_B);
   }
-  out.velocity_rad = interval_detail::up(out.velocity_rad * (1 + kRoundingSlack) + kRoundingSlack * g.norm());
-  const double scale = y.lpNorm<Eigen::Infinity>() + x.lpNorm<Eigen::Infinity>() + out.mid.lpNorm<Eigen::Infinity>();
-  out.rounding = kRoundingSlack * scale;
-  return out;
-}
-
-MidRadMatrix RelativeMotion::rotation_ball(const Interval& T) const {
-  const double tm = T.mid(), h = half_width(T, tm);
-  MidRadMatrix out;
-  out.mid = rotation_at(tm);
-  // Each column turns by at most (w_A + w_B) |t - tm|.
-  out.rad.setConstant(interval_detail::up(h * (a_.angle_rad() + b_.angle_rad()) * (1 + kRoundingSlack) + kRoundingSlack));
+  out.velocity_rad = out.velocity_rad * (1 + kRoundingSlack) + kRoundingSlack * out.velocity.cwiseAbs().sum();
+  out.rounding = kRoundingSlack * (p_B.cwiseAbs().sum() + x.cwiseAbs().sum() + out.mid.cwiseAbs().sum() + s.translation_scale);
   return out;
 }
 

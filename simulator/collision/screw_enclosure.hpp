@@ -101,9 +101,24 @@ class RelativeMotion {
   // radius from a bound on the speed, |p(t) - p(tm)| <= max|p'| |t - tm| (a chord is
   // never longer than its arc). First-order tight and much cheaper than the natural
   // interval extension; the radius covers the rounding of the midpoint value.
-  MovingPoint moving_point(const Eigen::Vector3d& p_B, const Interval& T) const;
+  // What every point of B shares over T, computed once (the trigonometry): the
+  // relative pose at T's midpoint and the rotation enclosure.
+  struct Snapshot {
+    Interval T;
+    double tm = 0, h = 0;
+    geometry::Pose X_AB;   // B body -> A body at tm
+    geometry::Pose X_FB;   // B body -> frame F at tm (B's point in F, where the velocity fields live)
+    Eigen::Matrix3d R_AF;  // F -> A body at tm
+    MidRadMatrix R_AB;     // rotation B -> A over T
+    double translation_scale = 0;  // magnitude of the poses' translations, for rounding bounds
+  };
+  Snapshot snapshot(const Interval& T) const;
+  MovingPoint moving_point(const Eigen::Vector3d& p_B, const Snapshot& snapshot) const;
+  MovingPoint moving_point(const Eigen::Vector3d& p_B, const Interval& T) const {
+    return moving_point(p_B, snapshot(T));
+  }
   MidRadVector point_ball(const Eigen::Vector3d& p_B, const Interval& T) const { return moving_point(p_B, T).ball(); }
-  MidRadMatrix rotation_ball(const Interval& T) const;
+  MidRadMatrix rotation_ball(const Interval& T) const { return snapshot(T).R_AB; }
 
   // X_AB(t) applied to p_B.
   Eigen::Vector3d point_at(const Eigen::Vector3d& p_B, double t) const;
@@ -114,10 +129,16 @@ class RelativeMotion {
   // Transform of B's body frame into frame F = A's body frame at t = 0 (constant).
   const geometry::Pose& X_FB() const { return X_FB_; }
   bool both_rotate() const { return a_.rotates() && b_.rotates(); }
+  // Bound on the angular speed of B relative to A (radians per unit t): |w_B - w_A|.
+  double angular_speed() const { return interval_detail::up((b_.omega() - a_.omega()).norm() * (1 + 1e-12)); }
 
  private:
   geometry::Pose X_FB_;  // X_A0^-1 X_B0
   ScrewEnclosure a_, b_;  // A's and B's screws in F
+  // Velocity fields in F, cached for moving_point: v_B(x) = omega_B x x + c_B, and the
+  // relative field g(x) = v_B(x) - v_A(x) = delta_omega x x + delta_c.
+  Eigen::Vector3d omega_B_, c_B_, delta_omega_, delta_c_;
+  double delta_omega_norm_ = 0, omega_A_norm_ = 0;
 };
 
 }  // namespace arphys::collision
