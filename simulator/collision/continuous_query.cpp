@@ -162,11 +162,19 @@ void describe_contact(const CollisionMesh& A, const geometry::ScrewMotion& motio
       segment_segment_distance(p0, p1, q0, q1, &cp, &cq);
       result.point_W = 0.5 * (cp + cq);
       Eigen::Vector3d n = (p1 - p0).cross(q1 - q0);
+      const Eigen::Vector3d p0b = X_WA_before * a[f.corner_A], p1b = X_WA_before * a[(f.corner_A + 1) % 3];
+      const Eigen::Vector3d q0b = X_WB_before * b[f.corner_B], q1b = X_WB_before * b[(f.corner_B + 1) % 3];
       Eigen::Vector3d cp0, cq0;
-      segment_segment_distance(X_WA_before * a[f.corner_A], X_WA_before * a[(f.corner_A + 1) % 3],
-                               X_WB_before * b[f.corner_B], X_WB_before * b[(f.corner_B + 1) % 3], &cp0, &cq0);
-      // Parallel edges have no common normal: use the direction they closed along.
-      if (n.norm() < 1e-9 * (p1 - p0).norm() * (q1 - q0).norm()) n = cq0 - cp0;
+      segment_segment_distance(p0b, p1b, q0b, q1b, &cp0, &cq0);
+      // The common normal of the edges is the contact normal only where they cross
+      // inside both; at an end (edge on vertex, parallel edges) use the direction the
+      // closest points closed along.
+      auto inside = [](const Eigen::Vector3d& x, const Eigen::Vector3d& e0, const Eigen::Vector3d& e1) {
+        const double s = (x - e0).dot(e1 - e0) / (e1 - e0).squaredNorm();
+        return s > 1e-6 && s < 1 - 1e-6;
+      };
+      if (n.norm() < 1e-9 * (p1 - p0).norm() * (q1 - q0).norm() || !inside(cp0, p0b, p1b) || !inside(cq0, q0b, q1b))
+        n = cq0 - cp0;
       result.normal_W = orient(n, cq0 - cp0);
       break;
     }

@@ -1,6 +1,7 @@
 #include "simulator/collision/feature_toi.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include "simulator/collision/triangle_distance.hpp"
 
@@ -37,14 +38,30 @@ IVec3 hull(const IVec3& a, const IVec3& b) {
 // A static triangle in its body's frame, with what the vertex/face test needs.
 struct FixedTriangle {
   Eigen::Vector3d corner[3], edge[3], normal, inward[3], lo, hi;
+  double edge_length[3];
 
   explicit FixedTriangle(const Eigen::Vector3d c[3]) {
     for (int i = 0; i < 3; ++i) corner[i] = c[i];
     for (int i = 0; i < 3; ++i) edge[i] = corner[(i + 1) % 3] - corner[i];
+    for (int i = 0; i < 3; ++i) edge_length[i] = edge[i].norm();
     normal = edge[0].cross(corner[2] - corner[0]);
     for (int i = 0; i < 3; ++i) inward[i] = normal.cross(edge[i]);
     lo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
     hi = corner[0].cwiseMax(corner[1]).cwiseMax(corner[2]);
+  }
+
+  // Does the straight path P0 -> P1 (a point's exact positions at a leaf's ends) cross
+  // the plane within the closed triangle, to `slack` metres (which must cover how far
+  // the true path strays from that chord)?
+  bool crossed_by(const Eigen::Vector3d& P0, const Eigen::Vector3d& P1, double slack) const {
+    const double f0 = normal.dot(P0 - corner[0]), f1 = normal.dot(P1 - corner[0]);
+    if ((f0 > 0 && f1 > 0) || (f0 < 0 && f1 < 0)) return false;
+    const double lambda = f0 == f1 ? 0.0 : f0 / (f0 - f1);
+    const Eigen::Vector3d x = P0 + lambda * (P1 - P0);
+    const double reach = slack;
+    for (int i = 0; i < 3; ++i)
+      if (inward[i].dot(x - corner[i]) < -reach * inward[i].norm()) return false;
+    return true;
   }
 
   // Can the moving point be on this triangle during its interval? P is its box.
@@ -57,13 +74,25 @@ struct FixedTriangle {
   }
 };
 
+// A candidate leaf of the bisection: a time interval at the tolerance and the feature
+// pairs whose conditions its enclosures could not rule out.
+struct Leaf {
+  Interval T;
+  uint32_t alive = 0;
+};
+
 class TrianglePairSearch {
  public:
   TrianglePairSearch(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
                      const Eigen::Vector3d b[3], double tolerance)
-      : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b), tolerance_(tolerance) {}
+      : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b), tolerance_(tolerance) {
+    double scale = 0;
+    for (int k = 0; k < 3; ++k) scale = std::max({scale, a[k].lpNorm<Eigen::Infinity>(), b[k].lpNorm<Eigen::Infinity>()});
+    touch_distance_ = 1e-12 * (scale + 1e-300);
+  }
 
-  FeatureContact search(const Interval& T, uint32_t alive) const {
+  // Earliest leaf in T (depth first, earliest half first), or none (alive == 0).
+  Leaf search(const Interval& T, uint32_t alive) const {
     const RelativeMotion::Snapshot snapshot_AB = rel_AB_.snapshot(T);
     IVec3 PB[3];  // boxes of B's corners in A's frame
     for (int k = 0; k < 3; ++k) {
@@ -84,21 +113,93 @@ class TrianglePairSearch {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           const int bit = 6 + 3 * i + j;
-          B_edge_norm_ = B_.edge[j].norm();
-        if ((alive >> bit & 1) && !edges_may_touch(i, PB[j], PB[(j + 1) % 3], R_AB * B_.edge[j]))
+          if ((alive >> bit & 1) && !edges_may_touch(i, j, PB[j], PB[(j + 1) % 3], R_AB * B_.edge[j]))
             alive &= ~(1u << bit);
         }
     }
     if (alive == 0) return {};
-    if (T.width() <= tolerance_) return accept(T, alive, PB);
+    if (T.width() <= tolerance_) return {T, alive};
     const double mid = T.mid();
-    const FeatureContact left = search({T.lo, mid}, alive);
-    return left.time != kNoContact ? left : search({mid, T.hi}, alive);
+    const Leaf left = search({T.lo, mid}, alive);
+    return left.alive ? left : search({mid, T.hi}, alive);
   }
 
+  // A contact certainly inside the leaf: a feature pair whose coplanarity function
+  // changes sign over it (exact end-point evaluations) and whose in-face / in-edge
+  // condition holds where it does.
+  std::optional<FeatureContact> verify(const Leaf& leaf) const {
+    const double lo = leaf.T.lo, hi = leaf.T.hi;
+    // How far a corner's path can stray from its chord over the leaf: with |p''| <=
+    // velocity_rad / h, the sagitta is at most (2h)^2 / 8 |p''| = h velocity_rad / 2.
+    auto sagitta = [&](const RelativeMotion& rel, const Eigen::Vector3d corners[3]) {
+      const RelativeMotion::Snapshot s = rel.snapshot(leaf.T);
+      double most = 0;
+      for (int k = 0; k < 3; ++k) most = std::max(most, rel.moving_point(corners[k], s).velocity_rad);
+      return 0.5 * s.h * most * (1 + 1e-12) + touch_distance_;
+    };
+    const double stray_B = sagitta(rel_AB_, B_.corner);
+    Eigen::Vector3d B_lo[3], B_hi[3];  // B's corners in A's frame at the leaf's ends
+    for (int k = 0; k < 3; ++k) {
+      B_lo[k] = rel_AB_.point_at(B_.corner[k], lo);
+      B_hi[k] = rel_AB_.point_at(B_.corner[k], hi);
+    }
+    for (int k = 0; k < 3; ++k)
+      if ((leaf.alive >> k & 1) && A_.crossed_by(B_lo[k], B_hi[k], stray_B)) return feature(k, lo);
+    if (leaf.alive & kFaceVertexBits) {
+      const double stray_A = sagitta(rel_BA_, A_.corner);
+      for (int k = 0; k < 3; ++k)
+        if ((leaf.alive >> (3 + k) & 1) &&
+            B_.crossed_by(rel_BA_.point_at(A_.corner[k], lo), rel_BA_.point_at(A_.corner[k], hi), stray_A))
+          return feature(3 + k, lo);
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int bit = 6 + 3 * i + j, j1 = (j + 1) % 3;
+        if (!(leaf.alive >> bit & 1)) continue;
+        const Eigen::Vector3d& p0 = A_.corner[i];
+        const Eigen::Vector3d& ea = A_.edge[i];
+        const double g0 = ea.cross(B_lo[j1] - B_lo[j]).dot(B_lo[j] - p0);
+        const double g1 = ea.cross(B_hi[j1] - B_hi[j]).dot(B_hi[j] - p0);
+        if ((g0 > 0 && g1 > 0) || (g0 < 0 && g1 < 0)) continue;
+        const double lambda = g0 == g1 ? 0.0 : g0 / (g0 - g1);
+        const Eigen::Vector3d q0 = B_lo[j] + lambda * (B_hi[j] - B_lo[j]);
+        const Eigen::Vector3d q1 = B_lo[j1] + lambda * (B_hi[j1] - B_lo[j1]);
+        // The interpolated edge is within the sagitta of the true one where the
+        // coplanarity changes sign: the segments must meet there, to that distance.
+        if (segment_segment_distance(p0, p0 + ea, q0, q1) <= stray_B) return feature(bit, lo);
+      }
+    return std::nullopt;
+  }
+
+  // Exact distance of the triangles at t, and a bound on how fast it can shrink over W
+  // (the largest speed of B's corners in A's frame: speeds are convex over a triangle).
+  double distance_at(double t) const {
+    Eigen::Vector3d b[3];
+    for (int k = 0; k < 3; ++k) b[k] = rel_AB_.point_at(B_.corner[k], t);
+    return triangle_triangle_distance(A_.corner, b);
+  }
+  double closing_speed_bound(const Interval& W) const {
+    const RelativeMotion::Snapshot s = rel_AB_.snapshot(W);
+    double v = 0;
+    for (int k = 0; k < 3; ++k) {
+      const MovingPoint p = rel_AB_.moving_point(B_.corner[k], s);
+      v = std::max(v, p.velocity.norm() + p.velocity_rad);
+    }
+    return interval_detail::up(v * (1 + 1e-12));
+  }
+  double touch_distance() const { return touch_distance_; }
+
+  // The feature pair of a bit, as a contact at time t.
+  static FeatureContact feature(int bit, double t) {
+    if (bit < 3) return {t, FeaturePair::kVertexFace, -1, bit};
+    if (bit < 6) return {t, FeaturePair::kFaceVertex, bit - 3, -1};
+    return {t, FeaturePair::kEdgeEdge, (bit - 6) / 3, (bit - 6) % 3};
+  }
+  static int first_bit(uint32_t alive) { return __builtin_ctz(alive); }
+
  private:
-  // Edge i of A (fixed) against the moving edge Q0 Q1 of B with direction enclosure eb.
-  bool edges_may_touch(int i, const IVec3& Q0, const IVec3& Q1, const IVec3& eb) const {
+  // Edge i of A (fixed) against the moving edge j of B, Q0 Q1, with direction enclosure eb.
+  bool edges_may_touch(int i, int j, const IVec3& Q0, const IVec3& Q1, const IVec3& eb) const {
     const Eigen::Vector3d& p0 = A_.corner[i];
     const Eigen::Vector3d& ea = A_.edge[i];
     const IVec3 Q = hull(Q0, Q1);
@@ -109,7 +210,7 @@ class TrianglePairSearch {
     // an end of one lies on the other, which is a vertex/face contact on the closed
     // triangle and found there. Skipping them avoids bisecting a coplanarity function
     // that is zero at every time.
-    if (std::max({n[0].mag(), n[1].mag(), n[2].mag()}) <= 1e-12 * ea.norm() * B_edge_norm_) return false;
+    if (std::max({n[0].mag(), n[1].mag(), n[2].mag()}) <= 1e-12 * ea.norm() * B_.edge_length[j]) return false;
     const IVec3 r = Q0 - p0;
     if (!dot(n, r).contains_zero()) return false;
     // The lines meet at s = (r x eb).n / n.n on A's edge and u = (r x ea).n / n.n on B's.
@@ -121,35 +222,11 @@ class TrianglePairSearch {
     return true;
   }
 
-  // Interval at the tolerance: vertex/face pairs are accepted as they are; edge/edge
-  // pairs are verified, because parallel edges satisfy the coplanarity and in-edge
-  // enclosures at any distance: a real contact in T leaves the segments at most the
-  // motion over T apart at T's midpoint.
-  FeatureContact accept(const Interval& T, uint32_t alive, const IVec3 PB[3]) const {
-    for (int k = 0; k < 3; ++k)
-      if (alive >> k & 1) return {T.lo, FeaturePair::kVertexFace, -1, k};
-    for (int k = 0; k < 3; ++k)
-      if (alive >> (3 + k) & 1) return {T.lo, FeaturePair::kFaceVertex, k, -1};
-    const double t = T.mid();
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        if (!(alive >> (6 + 3 * i + j) & 1)) continue;
-        const int j1 = (j + 1) % 3;
-        const double motion = std::max(PB[j].max_width(), PB[j1].max_width());
-        const Eigen::Vector3d& p0 = A_.corner[i];
-        const double gap = segment_segment_distance(p0, p0 + A_.edge[i], rel_AB_.point_at(B_.corner[j], t),
-                                                    rel_AB_.point_at(B_.corner[j1], t));
-        const double scale = 1e-12 * (A_.edge[i].norm() + B_.edge[j].norm() + p0.norm());
-        if (gap <= 2 * motion + scale) return {T.lo, FeaturePair::kEdgeEdge, i, j};
-      }
-    return {};
-  }
-
   const RelativeMotion& rel_AB_;
   const RelativeMotion& rel_BA_;
   FixedTriangle A_, B_;  // each in its own body frame
-  mutable double B_edge_norm_ = 0;
   double tolerance_;
+  double touch_distance_ = 0;
 };
 
 }  // namespace
@@ -157,7 +234,28 @@ class TrianglePairSearch {
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
                                  const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
   if (!(window.lo <= window.hi)) return {};
-  return TrianglePairSearch(rel_AB, rel_BA, a, b, time_tolerance).search(window, kAllPairs);
+  const TrianglePairSearch search(rel_AB, rel_BA, a, b, time_tolerance);
+  // A leaf is accepted only when it holds a verified contact, or the triangles touch at
+  // its start. Otherwise the enclosures were too coarse there (a grazing near miss):
+  // the triangles, d apart, cannot meet before d / (closing speed) has passed, so the
+  // search resumes from there, conservative-advancement style.
+  Interval W = window;
+  constexpr int kMaxAdvances = 100;
+  for (int advance = 0; advance < kMaxAdvances; ++advance) {
+    const Leaf leaf = search.search(W, kAllPairs);
+    if (!leaf.alive) return {};
+    if (const auto contact = search.verify(leaf)) return *contact;
+    const double d = search.distance_at(leaf.T.lo);
+    if (d <= search.touch_distance()) return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
+    const double speed = search.closing_speed_bound({leaf.T.lo, W.hi});
+    if (!(speed > 0)) return {};
+    const double next = interval_detail::down(leaf.T.lo + d / speed);
+    if (next > W.hi) return {};
+    W.lo = std::max(next, W.lo);
+  }
+  // Still unresolved after many advances: report the proven contact-free prefix's end
+  // (never late; the only case where the TOI may be more than the tolerance early).
+  return TrianglePairSearch::feature(0, W.lo);
 }
 
 }  // namespace arphys::collision

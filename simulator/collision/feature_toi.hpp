@@ -2,16 +2,24 @@
 // Exact elementary continuous tests between two moving triangles: the three
 // vertex/face pairs each way and the nine edge/edge pairs (METHOD.md section 1.4).
 //
-// Each pair's coplanarity function (one or two frequencies of sines plus the screw's
-// linear axial term: not a polynomial in general) and its in-face / in-edge conditions
-// are enclosed over a time interval with the interval arithmetic of the culling; the
-// interval is halved, earliest half first, until it is `time_tolerance` wide while
-// some pair's conditions still hold. All fifteen pairs share one bisection, so the
-// screw terms are evaluated once per interval.
+// Each pair's coplanarity function and its in-face / in-edge conditions are enclosed
+// over a time interval in interval arithmetic (mean-value form for the linear ones);
+// the interval is halved, earliest half first, until it is `time_tolerance` wide while
+// some pair's conditions still hold. All fifteen pairs share one bisection. The
+// function is not a polynomial even when one body is still: the screw's axial
+// translation adds a term linear in t = 2 atan(u) / w to the u = tan(wt/2) form, and
+// with two rotating bodies it has two frequencies, so the same certified bisection
+// serves every case.
 //
-// Certified: the returned time is never later than the true first contact of the two
-// triangles and at most `time_tolerance` earlier; no contact is missed. A near miss
-// closer than the motion over `time_tolerance` may be reported as a contact.
+// A leaf is accepted only when a pair's coplanarity function changes sign across it
+// (exact end-point evaluations) with its in-face / in-edge condition holding where it
+// does, or when the triangles touch at its start. A leaf the enclosures could not
+// rule out but that holds no contact (a grazing near miss) makes the search resume
+// d / (closing speed) later, d the triangles' distance: a proven contact-free step.
+//
+// Contract: the returned time is never later than the first contact of the two
+// triangles, and at most `time_tolerance` earlier (except after 100 such resumptions,
+// when the proven contact-free prefix's end is returned). No contact is missed.
 #include <cstdint>
 #include <limits>
 
@@ -38,6 +46,19 @@ struct FeatureContact {
   FeaturePair kind = FeaturePair::kNone;
   int corner_A = -1, corner_B = -1;  // 0..2 within the triangle
 };
+
+// Earliest time in `window` at which `may_touch(T)` (false only when contact is
+// impossible over T) still holds once T is `time_tolerance` wide: depth-first,
+// earliest half first. kNoContact when it is ruled out everywhere. The scalar tests of
+// the primitives use it; the triangle pairs use a joint version over 15 conditions.
+template <typename MayTouch>
+double first_candidate_time(const Interval& window, double time_tolerance, const MayTouch& may_touch) {
+  if (!(window.lo <= window.hi) || !may_touch(window)) return kNoContact;
+  if (window.width() <= time_tolerance) return window.lo;
+  const double mid = window.mid();
+  const double left = first_candidate_time(Interval{window.lo, mid}, time_tolerance, may_touch);
+  return left != kNoContact ? left : first_candidate_time(Interval{mid, window.hi}, time_tolerance, may_touch);
+}
 
 // Triangle a (corners in A's body frame) and triangle b (in B's body frame); rel_AB
 // moves B's points into A's frame, rel_BA the reverse. Searches `window` only.

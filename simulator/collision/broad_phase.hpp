@@ -1,0 +1,23 @@
+#pragma once
+// Broad phase for many bodies over a time step: each body's swept axis-aligned box
+// (its bounding sphere carried along its screw motion), then sweep-and-prune along x
+// to find the pairs whose swept boxes overlap. Only those go to the narrow phase.
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "simulator/geometry/screw_motion.hpp"
+
+namespace arphys::collision {
+
+// World box containing the ball of `radius_m` about the body point `center_B` at every
+// t in [0, 1] of `motion` (certified: the screw path is enclosed piecewise). An
+// unbounded body (a plane) gets an infinite box.
+Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eigen::Vector3d& center_B, double radius_m,
+                                 int pieces = 8);
+
+// Index pairs (i < j) whose boxes overlap, sorted. Boxes may be infinite.
+std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes);
+
+}  // namespace arphys::collision

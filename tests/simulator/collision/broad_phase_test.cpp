@@ -1,0 +1,53 @@
+#include "simulator/collision/broad_phase.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace arphys::collision {
+namespace {
+
+TEST(BroadPhase, SweptBoundsContainTheBallAlongTheScrew) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int m = 0; m < 100; ++m) {
+    geometry::Pose X0 = geometry::rotation_pose(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized(), 3 * u(rng));
+    geometry::Pose X1 = geometry::rotation_pose(Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized(), 3 * u(rng));
+    X0.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    X1.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const geometry::ScrewMotion motion(X0, X1);
+    const Eigen::Vector3d c(0.1, -0.2, 0.3);
+    const double r = 0.05;
+    const auto box = swept_bounds(motion, c, r);
+    for (int k = 0; k <= 100; ++k) {
+      const Eigen::Vector3d p = motion.pose_at(k / 100.0) * c;
+      ASSERT_TRUE(box.contains(Eigen::AlignedBox3d(p.array() - r, p.array() + r))) << m << " " << k;
+    }
+    // Not wildly loose: within 1.5x of the sampled hull's size plus the radius.
+    Eigen::AlignedBox3d hull;
+    for (int k = 0; k <= 100; ++k) hull.extend(motion.pose_at(k / 100.0) * c);
+    EXPECT_LT(box.sizes().maxCoeff(), 1.5 * hull.sizes().maxCoeff() + 2 * r + 0.2);
+  }
+}
+
+TEST(BroadPhase, SweepAndPruneMatchesBruteForce) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(0, 10), size(0.1, 1.5);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int i = 0; i < 300; ++i) {
+    const Eigen::Vector3d lo(u(rng), u(rng), u(rng));
+    boxes.emplace_back(lo, lo + Eigen::Vector3d(size(rng), size(rng), size(rng)));
+  }
+  const double inf = std::numeric_limits<double>::infinity();
+  boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.5));  // a floor: meets many
+  std::vector<std::pair<int, int>> brute;
+  for (int i = 0; i < static_cast<int>(boxes.size()); ++i)
+    for (int j = i + 1; j < static_cast<int>(boxes.size()); ++j)
+      if (boxes[i].intersects(boxes[j])) brute.emplace_back(i, j);
+  const auto pairs = overlapping_pairs(boxes);
+  EXPECT_EQ(pairs, brute);
+  EXPECT_GT(pairs.size(), 100u);
+}
+
+}  // namespace
+}  // namespace arphys::collision

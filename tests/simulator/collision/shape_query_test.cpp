@@ -1,0 +1,107 @@
+#include "simulator/collision/shape_query.hpp"
+
+#include <gtest/gtest.h>
+
+namespace arphys::collision {
+namespace {
+
+using geometry::Pose;
+using geometry::ScrewMotion;
+
+Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis = Eigen::Vector3d::UnitZ(), double angle_rad = 0) {
+  Pose X = geometry::rotation_pose(axis.normalized(), angle_rad);
+  X.translation() = p;
+  return X;
+}
+const ScrewMotion kStill{Pose::Identity(), Pose::Identity()};
+
+void expect_toi(const ContinuousResult& r, double truth, double tolerance = 2e-9) {
+  ASSERT_TRUE(r.collides);
+  EXPECT_LE(r.time_of_impact, truth + 1e-12);
+  EXPECT_GE(r.time_of_impact, truth - tolerance);
+}
+
+TEST(ShapeQuery, SphereOntoPlaneUnderTranslationAndScrew) {
+  const Shape ground = Shape::plane(), ball = Shape::sphere(0.1);
+  // Centre from z = 1 to -1: touches when z = 0.1, at t = 0.45.
+  const auto r = time_of_impact(ground, kStill, ball, ScrewMotion(at({0.3, 0, 1}), at({0.3, 0, -1})));
+  expect_toi(r, 0.45);
+  EXPECT_NEAR(r.point_W.z(), 0.0, 1e-8);
+  EXPECT_NEAR(r.normal_W.z(), 1.0, 1e-12);
+  // A half turn about y moving the centre from (2, 0, c) to (-2, 0, c): the screw axis
+  // is the y axis through (0, 0, c) and the centre dips along a circle of radius 2 to
+  // z = c - 2 at t = 1/2 (Eigen's axis sign at exactly pi turns it downwards here).
+  auto half_turn = [](double c) {
+    return ScrewMotion(at({2, 0, c}), at({-2, 0, c}, Eigen::Vector3d::UnitY(), M_PI));
+  };
+  EXPECT_FALSE(time_of_impact(ground, kStill, ball, half_turn(2.3)).collides);   // lowest centre 0.3
+  EXPECT_FALSE(time_of_impact(ground, kStill, ball, half_turn(2.101)).collides); // 0.101: a 1 mm near miss
+  // Lowest centre 0.05: touches when 2.05 - 2 sin(pi t) = 0.1.
+  const Pose Z0 = at({2, 0, 2.05}), Z1 = at({-2, 0, 2.05}, Eigen::Vector3d::UnitY(), M_PI);
+  expect_toi(time_of_impact(ground, kStill, ball, ScrewMotion(Z0, Z1)), std::asin(1.95 / 2) / M_PI);
+}
+
+TEST(ShapeQuery, TiltedPlaneAndMirroredArguments) {
+  // The plane tilted 30 deg about x; a sphere moving along -z from above its origin.
+  const Pose tilt = at({0, 0, 0}, Eigen::Vector3d::UnitX(), M_PI / 6);
+  const Shape ground = Shape::plane(), ball = Shape::sphere(0.1);
+  // Centre (0, 0, z): distance to the plane = z cos 30; touch when z cos 30 = 0.1.
+  const ScrewMotion fall(at({0, 0, 1}), at({0, 0, -1}));
+  const double truth = (1 - 0.1 / std::cos(M_PI / 6)) / 2;
+  const auto r = time_of_impact(ground, ScrewMotion(tilt, tilt), ball, fall);
+  expect_toi(r, truth);
+  const auto mirrored = time_of_impact(ball, fall, ground, ScrewMotion(tilt, tilt));
+  expect_toi(mirrored, truth);
+  EXPECT_NEAR((mirrored.normal_W + r.normal_W).norm(), 0.0, 1e-12);  // from A to B either way
+}
+
+TEST(ShapeQuery, BoxAndMeshOntoPlane) {
+  const Shape ground = Shape::plane(), box = Shape::box({0.4, 0.2, 0.2});
+  // Tilted 45 deg about x, the lowest corner is 0.1 sqrt(2) below the centre.
+  const ScrewMotion fall(at({0, 0, 1}, Eigen::Vector3d::UnitX(), M_PI / 4), at({0, 0, -1}, Eigen::Vector3d::UnitX(), M_PI / 4));
+  expect_toi(time_of_impact(ground, kStill, box, fall), (1 - 0.1 * std::sqrt(2.0)) / 2);
+  auto mesh = std::make_shared<const CollisionMesh>(geometry::make_sphere_mesh(0.1, 2));
+  double lowest = 0;
+  for (const auto& v : mesh->mesh().vertices_m) lowest = std::min(lowest, v.z());
+  const auto r = time_of_impact(ground, kStill, Shape::mesh(mesh), ScrewMotion(at({0, 0, 1}), at({0, 0, -1}, Eigen::Vector3d::UnitZ(), 2.0)));
+  expect_toi(r, (1 + lowest) / 2);
+}
+
+TEST(ShapeQuery, SphereAgainstSphereBothMoving) {
+  const Shape a = Shape::sphere(0.1), b = Shape::sphere(0.2);
+  // Head-on: centres 2 m apart closing at 2 m per step: touch at distance 0.3, t = 0.85.
+  const auto r = time_of_impact(a, ScrewMotion(at({-1, 0, 0}), at({0, 0, 0})), b, ScrewMotion(at({1, 0, 0}), at({0, 0, 0})));
+  expect_toi(r, 0.85);
+  EXPECT_NEAR(r.point_W.x(), -0.15 + 0.1, 1e-8);
+  EXPECT_NEAR(r.normal_W.x(), 1.0, 1e-9);
+  EXPECT_FALSE(time_of_impact(a, kStill, b, ScrewMotion(at({1, 0.31, 0}), at({-1, 0.31, 0}))).collides);
+}
+
+TEST(ShapeQuery, SphereAgainstBoxEdgeAndMeshFace) {
+  const Shape box = Shape::box({0.2, 0.2, 0.2}), ball = Shape::sphere(0.05);
+  // Centre along x at y = 0.12: passes the box's y = 0.1 side, meets the edge x = y = 0.1
+  // when (x - 0.1)^2 + 0.02^2 = 0.05^2.
+  const double x_touch = 0.1 + std::sqrt(0.05 * 0.05 - 0.02 * 0.02);
+  expect_toi(time_of_impact(box, kStill, ball, ScrewMotion(at({1, 0.12, 0}), at({-1, 0.12, 0}))), (1 - x_touch) / 2);
+  // Beyond y = 0.15 it misses.
+  EXPECT_FALSE(time_of_impact(box, kStill, ball, ScrewMotion(at({1, 0.1501, 0}), at({-1, 0.1501, 0}))).collides);
+  // Onto a flat mesh face, the box now spinning about z while the sphere falls.
+  const auto r = time_of_impact(box, ScrewMotion(at({0, 0, 0}), at({0, 0, 0}, Eigen::Vector3d::UnitZ(), 1.0)), ball,
+                                ScrewMotion(at({0.02, 0.01, 1}), at({0.02, 0.01, -1})));
+  expect_toi(r, (1 - 0.15) / 2);
+  EXPECT_NEAR(r.normal_W.z(), 1.0, 1e-6);
+}
+
+TEST(ShapeQuery, PlaneAgainstPlaneIsRejectedWithAReason) {
+  try {
+    time_of_impact(Shape::plane(), kStill, Shape::plane(), kStill);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("plane against plane"), std::string::npos);
+  }
+  EXPECT_THROW(Shape::sphere(-1), std::invalid_argument);
+  EXPECT_THROW(Shape::box({0.1, 0, 0.1}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace arphys::collision
