@@ -16,7 +16,8 @@ namespace {
 struct Task {
   int node_A, node_B;
   double t0, t1;
-  int snapshot;  // index of the relative motion's snapshot over [t0, t1]
+  int snapshot;    // index of the relative motion's snapshot over [t0, t1]
+  double sweep_m;  // how far B's box can move over [t0, t1]
 };
 struct LaterFirst {  // min-heap on the start of the time interval
   bool operator()(const Task& x, const Task& y) const { return x.t0 > y.t0; }
@@ -46,19 +47,25 @@ class Search {
     thread_local std::vector<RelativeMotion::Snapshot> snapshots;
     snapshots.clear();
     snapshots.push_back(rel_AB_.snapshot({0.0, 1.0}));
-    push({0, 0, 0.0, 1.0, 0});
+    // A node pair is tested when it is created and queued only when it survives, so
+    // culled pairs never touch the queue.
+    auto consider = [&](int node_A, int node_B, double t0, double t1, int snapshot) {
+      const ObbNode& a = na[node_A];
+      const ObbNode& b = nb[node_B];
+      ++stats.node_pairs_tested;
+      const MovingPoint center = rel_AB_.moving_point(b.box.center, snapshots[snapshot]);
+      if (obbs_separated(a.box, b.box, snapshots[snapshot].R_AB.mid, center, angular_speed_)) return;
+      push({node_A, node_B, t0, t1, snapshot, obb_sweep_m(b.box, center, angular_speed_)});
+    };
+    consider(0, 0, 0.0, 1.0, 0);
     while (!heap.empty()) {
       std::pop_heap(heap.begin(), heap.end(), LaterFirst{});
       const Task task = heap.back();
       heap.pop_back();
       if (task.t0 > best_) break;  // every remaining interval starts later
       const Interval T{task.t0, std::min(task.t1, best_)};
-      const RelativeMotion::Snapshot& snapshot = snapshots[task.snapshot];
       const ObbNode& a = na[task.node_A];
       const ObbNode& b = nb[task.node_B];
-      ++stats.node_pairs_tested;
-      const MovingPoint center = rel_AB_.moving_point(b.box.center, snapshot);
-      if (obbs_separated(a.box, b.box, snapshot.R_AB.mid, center, angular_speed_)) continue;
       if (a.is_leaf() && b.is_leaf()) {
         ++stats.triangle_pairs_tested;
         triangle_pair(a.triangle, b.triangle, T);
@@ -67,22 +74,22 @@ class Search {
       const double size_a = a.is_leaf() ? 0.0 : a.box.half_extents_m.maxCoeff();
       const double size_b = b.is_leaf() ? 0.0 : b.box.half_extents_m.maxCoeff();
       // Split time when the motion over T, not the boxes, keeps the test from deciding:
-      // the spread of B's box over T (its center, and its corners turning) against the sizes.
-      const double motion_width = 2 * obb_sweep_m(b.box, center, angular_speed_);
-      if (motion_width > options_.time_split_ratio * std::max(size_a, size_b) && T.width() > options_.min_culling_interval) {
+      // the spread of B's box over T (its centre, and its corners turning) against the sizes.
+      if (2 * task.sweep_m > options_.time_split_ratio * std::max(size_a, size_b) &&
+          T.width() > options_.min_culling_interval) {
         ++stats.time_splits;
         const double mid = T.mid();
         const int first = static_cast<int>(snapshots.size());
         snapshots.push_back(rel_AB_.snapshot({T.lo, mid}));
         snapshots.push_back(rel_AB_.snapshot({mid, T.hi}));
-        push({task.node_A, task.node_B, T.lo, mid, first});
-        push({task.node_A, task.node_B, mid, T.hi, first + 1});
+        consider(task.node_A, task.node_B, T.lo, mid, first);
+        consider(task.node_A, task.node_B, mid, T.hi, first + 1);
       } else if (size_a >= size_b) {
-        push({a.first_child, task.node_B, T.lo, T.hi, task.snapshot});
-        push({a.first_child + 1, task.node_B, T.lo, T.hi, task.snapshot});
+        consider(a.first_child, task.node_B, T.lo, T.hi, task.snapshot);
+        consider(a.first_child + 1, task.node_B, T.lo, T.hi, task.snapshot);
       } else {
-        push({task.node_A, b.first_child, T.lo, T.hi, task.snapshot});
-        push({task.node_A, b.first_child + 1, T.lo, T.hi, task.snapshot});
+        consider(task.node_A, b.first_child, T.lo, T.hi, task.snapshot);
+        consider(task.node_A, b.first_child + 1, T.lo, T.hi, task.snapshot);
       }
     }
     features = features_;
