@@ -84,15 +84,15 @@ struct Leaf {
 class TrianglePairSearch {
  public:
   TrianglePairSearch(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
-                     const Eigen::Vector3d b[3], double tolerance)
-      : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b), tolerance_(tolerance) {
+                     const Eigen::Vector3d b[3])
+      : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b) {
     double scale = 0;
     for (int k = 0; k < 3; ++k) scale = std::max({scale, a[k].lpNorm<Eigen::Infinity>(), b[k].lpNorm<Eigen::Infinity>()});
     touch_distance_ = 1e-12 * (scale + 1e-300);
   }
 
   // Earliest leaf in T (depth first, earliest half first), or none (alive == 0).
-  Leaf search(const Interval& T, uint32_t alive) const {
+  Leaf search(const Interval& T, uint32_t alive, double tolerance) const {
     const RelativeMotion::Snapshot snapshot_AB = rel_AB_.snapshot(T);
     IVec3 PB[3];  // boxes of B's corners in A's frame
     for (int k = 0; k < 3; ++k) {
@@ -118,10 +118,10 @@ class TrianglePairSearch {
         }
     }
     if (alive == 0) return {};
-    if (T.width() <= tolerance_) return {T, alive};
+    if (T.width() <= tolerance) return {T, alive};
     const double mid = T.mid();
-    const Leaf left = search({T.lo, mid}, alive);
-    return left.alive ? left : search({mid, T.hi}, alive);
+    const Leaf left = search({T.lo, mid}, alive, tolerance);
+    return left.alive ? left : search({mid, T.hi}, alive, tolerance);
   }
 
   // A contact certainly inside the leaf: a feature pair whose coplanarity function
@@ -225,37 +225,54 @@ class TrianglePairSearch {
   const RelativeMotion& rel_AB_;
   const RelativeMotion& rel_BA_;
   FixedTriangle A_, B_;  // each in its own body frame
-  double tolerance_;
   double touch_distance_ = 0;
 };
 
 }  // namespace
 
-FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
-                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
-  if (!(window.lo <= window.hi)) return {};
-  const TrianglePairSearch search(rel_AB, rel_BA, a, b, time_tolerance);
-  // A leaf is accepted only when it holds a verified contact, or the triangles touch at
-  // its start. Otherwise the enclosures were too coarse there (a grazing near miss):
-  // the triangles, d apart, cannot meet before d / (closing speed) has passed, so the
-  // search resumes from there, conservative-advancement style.
-  Interval W = window;
-  constexpr int kMaxAdvances = 100;
-  for (int advance = 0; advance < kMaxAdvances; ++advance) {
-    const Leaf leaf = search.search(W, kAllPairs);
+namespace {
+
+// The first verified contact in W. A leaf is accepted only when it holds a verified
+// contact, or the triangles touch at its start. Otherwise the enclosures were too
+// coarse there (the triangles pass within about the motion over a leaf): the leaf is
+// searched again at a 1024 times finer tolerance, which either finds a verified
+// contact inside it or proves it contact-free, and at the finest level the search
+// resumes d / (closing speed) later, d the triangles' distance (a proven contact-free
+// step, conservative-advancement style).
+FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tolerance, int zoom_levels) {
+  constexpr int kMaxSteps = 100;
+  for (int step = 0; step < kMaxSteps; ++step) {
+    const Leaf leaf = search.search(W, kAllPairs, tolerance);
     if (!leaf.alive) return {};
     if (const auto contact = search.verify(leaf)) return *contact;
     const double d = search.distance_at(leaf.T.lo);
-    if (d <= search.touch_distance()) return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
+    if (d <= search.touch_distance())
+      return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
+    if (zoom_levels > 0) {
+      const FeatureContact inner = resolve(search, leaf.T, tolerance / 1024, zoom_levels - 1);
+      if (inner.time != kNoContact) return inner;
+      if (!(leaf.T.hi < W.hi)) return {};
+      W.lo = leaf.T.hi;  // the whole leaf is contact-free
+      continue;
+    }
     const double speed = search.closing_speed_bound({leaf.T.lo, W.hi});
     if (!(speed > 0)) return {};
     const double next = interval_detail::down(leaf.T.lo + d / speed);
     if (next > W.hi) return {};
     W.lo = std::max(next, W.lo);
   }
-  // Still unresolved after many advances: report the proven contact-free prefix's end
-  // (never late; the only case where the TOI may be more than the tolerance early).
+  // Still unresolved after many steps: report the end of the proven contact-free
+  // prefix (never late; the only case where the TOI may be more than the tolerance early).
   return TrianglePairSearch::feature(0, W.lo);
+}
+
+}  // namespace
+
+FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
+                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
+  if (!(window.lo <= window.hi)) return {};
+  const TrianglePairSearch search(rel_AB, rel_BA, a, b);
+  return resolve(search, window, time_tolerance, 2);
 }
 
 }  // namespace arphys::collision

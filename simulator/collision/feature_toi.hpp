@@ -14,12 +14,15 @@
 // A leaf is accepted only when a pair's coplanarity function changes sign across it
 // (exact end-point evaluations) with its in-face / in-edge condition holding where it
 // does, or when the triangles touch at its start. A leaf the enclosures could not
-// rule out but that holds no contact (a grazing near miss) makes the search resume
-// d / (closing speed) later, d the triangles' distance: a proven contact-free step.
+// rule out but that holds no verified contact (the triangles graze past within about
+// the motion over a leaf) is searched again at a 1024 times finer tolerance, twice
+// over; below that the search resumes d / (closing speed) later, d the triangles'
+// distance: a proven contact-free step.
 //
 // Contract: the returned time is never later than the first contact of the two
-// triangles, and at most `time_tolerance` earlier (except after 100 such resumptions,
-// when the proven contact-free prefix's end is returned). No contact is missed.
+// triangles, and at most `time_tolerance` earlier (except when 100 such steps leave
+// it unresolved: then the proven contact-free prefix's end is returned). No contact is
+// missed.
 #include <cstdint>
 #include <limits>
 

@@ -3,7 +3,7 @@ set datafile separator ','
 set terminal pngcairo size 900,600 font ',11'
 
 # 1. Speed against accuracy: median time per query against the largest TOI error.
-#    Methods that missed collisions are drawn in red.
+#    Red: methods that missed collisions; labels say when TOIs came out late.
 set output outdir.'/ccd_speed_accuracy.png'
 set title "CCD speed vs accuracy (bunny 5k vs bunny 5k, random screw motions)"
 set logscale xy
@@ -14,8 +14,9 @@ set grid
 set key off
 clamp_low(x) = (x > 1e-10 ? x : 1e-10)
 plot summary every ::1 using 12:(clamp_low($10)):($5 > 0 ? 0xcc0000 : 0x0060c0) with points pt 7 ps 1.6 lc rgb variable, \
-     summary every ::1 using 12:(clamp_low($10)):(stringcolumn(1).($5 > 0 ? sprintf(' (%d missed)', $5) : '')) \
-       with labels offset 1,0.8 left font ',9'
+     summary every ::1 using 12:(clamp_low($10) * (int($0) % 2 ? 0.45 : 2.2)): \
+       (stringcolumn(1).($6 > 0 ? sprintf(', %d late', $6) : '').($5 > 0 ? sprintf(', %d missed', $5) : '')) \
+       with labels offset 0.8,0 left font ',9'
 
 # 2. Tunnelling: missed-collision rate against travel per step over thickness.
 set output outdir.'/ccd_tunnelling.png'
@@ -27,5 +28,8 @@ set xlabel 'travel per step / (plate thickness + cube side)  (log)'
 set ylabel 'missed-collision rate'
 set yrange [-0.05:1.05]
 set key outside right
-methods = "arphys-ccd discrete-10 discrete-100 discrete-1000 fcl-naive-10 fcl-naive-100 fcl-ca-obbrss"
-plot for [m in methods] tunnelling every ::1 using 1:(stringcolumn(2) eq m ? $3 : 1/0) with linespoints lw 2 title m
+set label 1 "arphys-ccd, discrete-1000 and fcl-ca-obbrss: no misses" at graph 0.03, graph 0.93 font ',10'
+methods = "discrete-10 discrete-100 discrete-1000 fcl-naive-10 fcl-naive-100 fcl-ca-obbrss arphys-ccd"
+rows(m) = sprintf("< awk -F, '$2 == \"%s\"' '%s'", m, tunnelling)
+plot for [m in methods] rows(m) using 1:3 with linespoints lw (m eq 'arphys-ccd' ? 3 : 2) \
+       ps (m eq 'arphys-ccd' ? 1.8 : 1) title m
