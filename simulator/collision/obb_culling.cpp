@@ -22,14 +22,17 @@ inline bool exceeds(double mid_abs, double rad, double r) {
 
 bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, const MovingPoint& center,
                     double angular_speed) {
+  const double h = center.half_width;
+  // Sweep per unit |L| from turning and from the velocity's change, plus rounding of mid.
+  const double isotropic = h * (center.velocity_rad + angular_speed * b.radius_m) + center.rounding;
+  // Bounding spheres first: cheap, and they settle most far-apart pairs.
+  const double reach = a.radius_m + b.radius_m + h * center.velocity.norm() + isotropic;
+  if ((center.mid - a.center).squaredNorm() > reach * reach * (1 + kSlack)) return true;
   // Everything in A's box frame: d = center offset and v = its velocity at tm, C = B's box axes.
   const Eigen::Matrix3d Ea_T = a.axes.transpose();
   const Eigen::Matrix3d C = Ea_T * (R_AB * b.axes);
   const Eigen::Vector3d d = Ea_T * (center.mid - a.center);
   const Eigen::Vector3d v = Ea_T * center.velocity;
-  const double h = center.half_width;
-  // Sweep per unit |L| from turning and from the velocity's change, plus rounding of mid.
-  const double isotropic = h * (center.velocity_rad + angular_speed * b.half_extents_m.norm()) + center.rounding;
   const Eigen::Matrix3d absC = C.cwiseAbs();
   const Eigen::Vector3d& ha = a.half_extents_m;
   const Eigen::Vector3d& hb = b.half_extents_m;
@@ -42,15 +45,14 @@ bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, con
     const double r = absC.col(j).dot(ha) + hb[j] + h * std::abs(C.col(j).dot(v)) + isotropic;
     if (exceeds(std::abs(C.col(j).dot(d)), 0.0, r)) return true;
   }
-  for (int i = 0; i < 3; ++i) {  // a_i x b_j, |L| = sqrt(1 - C_ij^2)
+  for (int i = 0; i < 3; ++i) {  // a_i x b_j, with |L| <= 1 bounding the isotropic sweep
     const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
     for (int j = 0; j < 3; ++j) {
       const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
       const double proj = d[i2] * C(i1, j) - d[i1] * C(i2, j);
       const double speed = std::abs(v[i2] * C(i1, j) - v[i1] * C(i2, j));
-      const double norm_L = std::sqrt(std::max(0.0, 1 - C(i, j) * C(i, j))) + 1e-15;
       const double r = ha[i1] * absC(i2, j) + ha[i2] * absC(i1, j) + hb[j1] * absC(i, j2) + hb[j2] * absC(i, j1) +
-                       h * speed + norm_L * isotropic;
+                       h * speed + isotropic;
       if (exceeds(std::abs(proj), 0.0, r)) return true;
     }
   }
@@ -58,8 +60,7 @@ bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, con
 }
 
 double obb_sweep_m(const Obb& b, const MovingPoint& center, double angular_speed) {
-  return center.half_width *
-         (center.velocity.norm() + center.velocity_rad + angular_speed * b.half_extents_m.norm());
+  return center.half_width * (center.velocity.norm() + center.velocity_rad + angular_speed * b.radius_m);
 }
 
 bool obbs_separated(const Obb& a, const Obb& b, const Eigen::Matrix3d& R_AB, const Eigen::Vector3d& p_AB,

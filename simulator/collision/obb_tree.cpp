@@ -23,6 +23,7 @@ Obb box_with_axes(const geometry::TriangleMesh& mesh, const int* triangles, int 
   box.axes = axes;
   box.center = axes * (0.5 * (lo + hi));
   box.half_extents_m = 0.5 * (hi - lo);
+  box.radius_m = box.half_extents_m.norm() * (1 + 1e-15);
   return box;
 }
 

@@ -16,6 +16,7 @@ struct Obb {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();         // body frame, metres
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();       // columns: unit box axes in the body frame
   Eigen::Vector3d half_extents_m = Eigen::Vector3d::Zero();
+  double radius_m = 0;  // |half_extents_m|: the bounding sphere's radius about the center
 };
 
 struct ObbNode {
