@@ -174,7 +174,105 @@ int rank(Shape::Type type) {
   return 3;
 }
 
+// Mesh vertices of B within tolerance of (or below) the plane z = 0 of A.
+std::vector<ManifoldPoint> plane_mesh_manifold(const geometry::Pose& X_WA, const CollisionMesh& mesh,
+                                               const geometry::Pose& X_WB, double tolerance) {
+  const geometry::Pose X_AB = X_WA.inverse() * X_WB;
+  const Eigen::Vector3d normal_W = X_WA.linear().col(2);
+  std::vector<ManifoldPoint> points;
+  std::vector<char> seen(mesh.mesh().num_vertices(), 0);
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const ObbNode& node = mesh.tree().nodes()[stack.back()];
+    stack.pop_back();
+    const double centre_z = (X_AB * node.box.center).z();
+    const double extent = (X_AB.linear() * node.box.axes).row(2).cwiseAbs().dot(node.box.half_extents_m);
+    if (centre_z - extent > tolerance) continue;
+    if (!node.is_leaf()) {
+      stack.push_back(node.first_child);
+      stack.push_back(node.first_child + 1);
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.mesh().triangles[node.triangle][k];
+      if (seen[v]) continue;
+      seen[v] = 1;
+      const Eigen::Vector3d p_A = X_AB * mesh.mesh().vertices_m[v];
+      if (p_A.z() > tolerance) continue;
+      const Eigen::Vector3d on_plane(p_A.x(), p_A.y(), 0.0);
+      points.push_back({X_WA * on_plane, X_WA * p_A, normal_W, p_A.z(), {-1, node.triangle}});
+    }
+  }
+  return points;
+}
+
+std::vector<ManifoldPoint> mesh_sphere_manifold(const CollisionMesh& mesh, const geometry::Pose& X_WA, double radius,
+                                                const geometry::Pose& X_WB, double tolerance) {
+  const Eigen::Vector3d centre_A = X_WA.inverse() * X_WB.translation();
+  const double reach = radius + tolerance;
+  std::vector<ManifoldPoint> points;
+  std::vector<int> stack{0};
+  while (!stack.empty()) {
+    const ObbNode& node = mesh.tree().nodes()[stack.back()];
+    stack.pop_back();
+    const Eigen::Vector3d local = node.box.axes.transpose() * (centre_A - node.box.center);
+    if (((local.cwiseAbs() - node.box.half_extents_m).array() > reach).any()) continue;
+    if (!node.is_leaf()) {
+      stack.push_back(node.first_child);
+      stack.push_back(node.first_child + 1);
+      continue;
+    }
+    Eigen::Vector3d a[3];
+    mesh.corners(node.triangle, a);
+    const Eigen::Vector3d on_triangle = closest_point_on_triangle(centre_A, a[0], a[1], a[2]);
+    const double d = (centre_A - on_triangle).norm();
+    if (d > reach) continue;
+    Eigen::Vector3d n = d > 0 ? Eigen::Vector3d((centre_A - on_triangle) / d) : (a[1] - a[0]).cross(a[2] - a[0]).normalized();
+    n = X_WA.linear() * n;
+    points.push_back({X_WA * on_triangle, X_WB.translation() - radius * n, n, d - radius, {node.triangle, -1}});
+  }
+  return points;
+}
+
 }  // namespace
+
+std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose& X_WA, const Shape& B,
+                                            const geometry::Pose& X_WB, double tolerance_m) {
+  if (rank(A.type()) > rank(B.type())) {
+    std::vector<ManifoldPoint> points = contact_manifold(B, X_WB, A, X_WA, tolerance_m);
+    for (auto& p : points) {
+      std::swap(p.point_A_W, p.point_B_W);
+      std::swap(p.triangles.triangle_A, p.triangles.triangle_B);
+      p.normal_W = -p.normal_W;
+    }
+    return points;
+  }
+  switch (A.type()) {
+    case Shape::Type::kPlane: {
+      if (B.type() == Shape::Type::kPlane)
+        throw std::invalid_argument("contact_manifold: plane against plane is not supported (model one as a box)");
+      if (B.type() != Shape::Type::kSphere) return plane_mesh_manifold(X_WA, *B.triangles(), X_WB, tolerance_m);
+      const Eigen::Vector3d n = X_WA.linear().col(2);
+      const double height = n.dot(X_WB.translation() - X_WA.translation()) - B.radius_m();
+      if (height > tolerance_m) return {};
+      const Eigen::Vector3d on_sphere = X_WB.translation() - B.radius_m() * n;
+      return {{on_sphere - height * n, on_sphere, n, height, {-1, -1}}};
+    }
+    case Shape::Type::kBox:
+    case Shape::Type::kMesh:
+      return B.type() == Shape::Type::kSphere
+                 ? mesh_sphere_manifold(*A.triangles(), X_WA, B.radius_m(), X_WB, tolerance_m)
+                 : contact_manifold(*A.triangles(), X_WA, *B.triangles(), X_WB, tolerance_m);
+    case Shape::Type::kSphere: {
+      const Eigen::Vector3d between = X_WB.translation() - X_WA.translation();
+      const double gap = between.norm() - A.radius_m() - B.radius_m();
+      if (gap > tolerance_m) return {};
+      const Eigen::Vector3d n = between.norm() > 0 ? Eigen::Vector3d(between.normalized()) : Eigen::Vector3d::UnitZ();
+      return {{X_WA.translation() + A.radius_m() * n, X_WB.translation() - B.radius_m() * n, n, gap, {-1, -1}}};
+    }
+  }
+  return {};
+}
 
 ContinuousResult time_of_impact(const Shape& A, const ScrewMotion& motion_A, const Shape& B, const ScrewMotion& motion_B,
                                 const ContinuousOptions& options) {

@@ -105,3 +105,51 @@ TEST(ShapeQuery, PlaneAgainstPlaneIsRejectedWithAReason) {
 
 }  // namespace
 }  // namespace arphys::collision
+
+namespace arphys::collision {
+namespace {
+
+TEST(ShapeManifold, BoxRestingOnPlaneGivesItsFourBottomCorners) {
+  const Shape ground = Shape::plane(), box = Shape::box({0.4, 0.2, 0.2});
+  const auto points = contact_manifold(ground, Pose::Identity(), box, at({0.3, 0.1, 0.1005}), 1e-3);
+  ASSERT_EQ(points.size(), 4u);
+  for (const auto& p : points) {
+    EXPECT_NEAR(p.distance_m, 5e-4, 1e-12);
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+    EXPECT_NEAR(p.point_A_W.z(), 0.0, 1e-12);
+    EXPECT_NEAR(p.point_B_W.z(), 5e-4, 1e-12);
+  }
+  // Sunk 1 mm: signed distance -1 mm. With the plane as B the normal flips.
+  const auto sunk = contact_manifold(box, at({0.3, 0.1, 0.099}), ground, Pose::Identity(), 1e-3);
+  ASSERT_EQ(sunk.size(), 4u);
+  EXPECT_NEAR(sunk[0].distance_m, -1e-3, 1e-12);
+  EXPECT_NEAR(sunk[0].normal_W.z(), -1.0, 1e-12);
+  // Tilted 45 degrees about x: one edge (two corners) touches.
+  EXPECT_EQ(contact_manifold(ground, Pose::Identity(), box,
+                             at({0, 0, 0.1 * std::sqrt(2.0)}, Eigen::Vector3d::UnitX(), M_PI / 4), 1e-6).size(), 2u);
+  EXPECT_TRUE(contact_manifold(ground, Pose::Identity(), box, at({0, 0, 0.2}), 1e-3).empty());
+}
+
+TEST(ShapeManifold, SphereAgainstPlaneMeshAndSphere) {
+  const Shape ground = Shape::plane(), ball = Shape::sphere(0.1), slab = Shape::box({2, 2, 0.1});
+  const auto on_plane = contact_manifold(ground, Pose::Identity(), ball, at({1, 2, 0.098}), 1e-3);
+  ASSERT_EQ(on_plane.size(), 1u);
+  EXPECT_NEAR(on_plane[0].distance_m, -0.002, 1e-12);
+  EXPECT_NEAR(on_plane[0].point_B_W.z(), -0.002, 1e-12);
+  // On the slab's top face (z = 0.05): the closest triangles all give the same point.
+  const auto on_slab = contact_manifold(slab, Pose::Identity(), ball, at({0.3, 0.2, 0.1505}), 1e-3);
+  ASSERT_GE(on_slab.size(), 1u);
+  for (const auto& p : on_slab) {
+    EXPECT_NEAR(p.distance_m, 5e-4, 1e-12);
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+    EXPECT_NEAR((p.point_A_W - Eigen::Vector3d(0.3, 0.2, 0.05)).norm(), 0.0, 1e-12);
+  }
+  const auto pair = contact_manifold(ball, at({0, 0, 0}), Shape::sphere(0.2), at({0.2995, 0, 0}), 1e-3);
+  ASSERT_EQ(pair.size(), 1u);
+  EXPECT_NEAR(pair[0].distance_m, -5e-4, 1e-12);
+  EXPECT_NEAR(pair[0].normal_W.x(), 1.0, 1e-12);
+  EXPECT_THROW(contact_manifold(ground, Pose::Identity(), ground, Pose::Identity(), 1e-3), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace arphys::collision
