@@ -1,6 +1,21 @@
 #include "simulator/collision/collision_mesh.hpp"
 
+#include <unordered_map>
+
 namespace arphys::collision {
+
+CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh)), tree_(mesh_) {
+  // Edges shared by exactly two triangles with the same normal are flat.
+  std::unordered_map<uint64_t, std::vector<Eigen::Vector3d>> normals;
+  for (const auto& t : mesh_.triangles) {
+    const Eigen::Vector3d n =
+        (mesh_.vertices_m[t[1]] - mesh_.vertices_m[t[0]]).cross(mesh_.vertices_m[t[2]] - mesh_.vertices_m[t[0]]);
+    if (!(n.norm() > 0)) continue;
+    for (int k = 0; k < 3; ++k) normals[edge_key(t[k], t[(k + 1) % 3])].push_back(n.normalized());
+  }
+  for (const auto& [key, ns] : normals)
+    if (ns.size() == 2 && ns[0].dot(ns[1]) > 1 - 1e-12) flat_edges_.insert(key);
+}
 
 std::shared_ptr<const CollisionMesh> CollisionMesh::load(const std::string& path, const Eigen::Vector3d& scale) {
   return std::make_shared<const CollisionMesh>(geometry::load_mesh(path, scale));

@@ -1,7 +1,10 @@
 #pragma once
 // A triangle mesh prepared for collision queries: the mesh (body frame, metres) and
 // its OBB tree. Built once per model and shared by every body that uses it.
+#include <algorithm>
+#include <cstdint>
 #include <memory>
+#include <unordered_set>
 #include <string>
 
 #include "simulator/collision/obb_tree.hpp"
@@ -11,7 +14,7 @@ namespace arphys::collision {
 
 class CollisionMesh {
  public:
-  explicit CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh)), tree_(mesh_) {}
+  explicit CollisionMesh(geometry::TriangleMesh mesh);
   CollisionMesh(const CollisionMesh&) = delete;  // the tree refers to mesh_
   CollisionMesh& operator=(const CollisionMesh&) = delete;
 
@@ -21,6 +24,10 @@ class CollisionMesh {
 
   const geometry::TriangleMesh& mesh() const { return mesh_; }
   const ObbTree& tree() const { return tree_; }
+  // True for an edge between two coplanar triangles (a face's internal diagonal): it
+  // is no feature of the surface, and contacts on it are those of the face.
+  bool is_flat_edge(int v0, int v1) const { return flat_edges_.count(edge_key(v0, v1)) > 0; }
+
   // The three corners of triangle i, body frame.
   void corners(int triangle, Eigen::Vector3d out[3]) const {
     const Eigen::Vector3i& t = mesh_.triangles[triangle];
@@ -28,8 +35,13 @@ class CollisionMesh {
   }
 
  private:
+  static uint64_t edge_key(int v0, int v1) {
+    return (static_cast<uint64_t>(std::min(v0, v1)) << 32) | static_cast<uint32_t>(std::max(v0, v1));
+  }
+
   geometry::TriangleMesh mesh_;
   ObbTree tree_;
+  std::unordered_set<uint64_t> flat_edges_;
 };
 
 }  // namespace arphys::collision

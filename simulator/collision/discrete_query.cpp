@@ -1,6 +1,8 @@
 #include "simulator/collision/discrete_query.hpp"
 
 #include <limits>
+#include <map>
+#include <set>
 
 #include "simulator/collision/obb_culling.hpp"
 #include "simulator/collision/triangle_distance.hpp"
@@ -82,26 +84,98 @@ SeparationResult separation(const CollisionMesh& A, const geometry::Pose& X_WA, 
   return best;
 }
 
+namespace {
+
+// Collects the feature contacts of close triangle pairs without duplicates: a vertex
+// over a face (keyed by the vertex and the face's normal, so one vertex on two coplanar
+// triangles counts once) or two edges crossing (keyed by their vertex indices).
+class ManifoldBuilder {
+ public:
+  ManifoldBuilder(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                  const geometry::Pose& X_WB, double tolerance)
+      : A_(A), B_(B), X_WA_(X_WA), X_WB_(X_WB), tolerance_(tolerance) {}
+
+  void add_pair(int ta, int tb) {
+    Eigen::Vector3d a[3], b[3];
+    corners_in_world(A_, ta, X_WA_, a);
+    corners_in_world(B_, tb, X_WB_, b);
+    const Eigen::Vector3i& ia = A_.mesh().triangles[ta];
+    const Eigen::Vector3i& ib = B_.mesh().triangles[tb];
+    const Eigen::Vector3d nA = (a[1] - a[0]).cross(a[2] - a[0]).normalized();
+    const Eigen::Vector3d nB = (b[1] - b[0]).cross(b[2] - b[0]).normalized();
+    for (int k = 0; k < 3; ++k) {
+      vertex_face(b[k], a, nA, +1, ib[k], {ta, tb});  // B's vertex over A's face
+      vertex_face(a[k], b, nB, -1, -1 - ia[k], {ta, tb});  // A's vertex over B's face
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) edge_edge(a, i, b, j, ia, ib, {ta, tb});
+  }
+
+  std::vector<ManifoldPoint> take() { return std::move(points_); }
+
+ private:
+  // `sign` +1: the vertex is B's, the face A's; -1 the other way round. The normal
+  // always points from A to B. Vertex keys: B's vertex v as v, A's as -1 - v.
+  void vertex_face(const Eigen::Vector3d& v, const Eigen::Vector3d tri[3], Eigen::Vector3d n, double sign, int key,
+                   TrianglePair pair) {
+    const Eigen::Vector3d on_face = closest_point_on_triangle(v, tri[0], tri[1], tri[2]);
+    const double d = (v - on_face).norm();
+    if (d > tolerance_) return;
+    // Only a vertex over the face's interior: over an edge the contact is an edge one.
+    const Eigen::Vector3d projected = v - n.dot(v - tri[0]) * n;
+    if ((projected - on_face).norm() > 1e-9 * (1 + d + v.norm())) return;
+    if (n.dot(v - tri[0]) < 0 && d > 1e-12) n = -n;  // the side the vertex is on
+    for (const int index : vertex_entries_[key])
+      if (points_[index].normal_W.dot(sign * n) > 1 - 1e-9) return;  // coplanar neighbour: same contact
+    vertex_entries_[key].push_back(static_cast<int>(points_.size()));
+    const Eigen::Vector3d normal = sign * n;
+    const Eigen::Vector3d on_A = sign > 0 ? on_face : v, on_B = sign > 0 ? v : on_face;
+    points_.push_back({on_A, on_B, normal, normal.dot(on_B - on_A), pair});
+  }
+
+  void edge_edge(const Eigen::Vector3d a[3], int i, const Eigen::Vector3d b[3], int j, const Eigen::Vector3i& ia,
+                 const Eigen::Vector3i& ib, TrianglePair pair) {
+    if (A_.is_flat_edge(ia[i], ia[(i + 1) % 3]) || B_.is_flat_edge(ib[j], ib[(j + 1) % 3])) return;
+    const Eigen::Vector3d p0 = a[i], p1 = a[(i + 1) % 3], q0 = b[j], q1 = b[(j + 1) % 3];
+    Eigen::Vector3d n = (p1 - p0).cross(q1 - q0);
+    if (n.norm() <= 1e-9 * (p1 - p0).norm() * (q1 - q0).norm()) return;  // parallel: the vertex contacts cover it
+    Eigen::Vector3d pa, pb;
+    const double d = segment_segment_distance(p0, p1, q0, q1, &pa, &pb);
+    if (d > tolerance_) return;
+    auto interior = [](const Eigen::Vector3d& x, const Eigen::Vector3d& e0, const Eigen::Vector3d& e1) {
+      const double s = (x - e0).dot(e1 - e0) / (e1 - e0).squaredNorm();
+      return s > 1e-9 && s < 1 - 1e-9;
+    };
+    if (!interior(pa, p0, p1) || !interior(pb, q0, q1)) return;  // at an end: a vertex contact
+    const auto key = std::make_pair(std::minmax(ia[i], ia[(i + 1) % 3]), std::minmax(ib[j], ib[(j + 1) % 3]));
+    if (!edge_keys_.insert(key).second) return;
+    n.normalize();
+    // Orient from A to B: by the closest points when apart, else by the bodies' centres.
+    const Eigen::Vector3d from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
+    if (n.dot(from_A_to_B) < 0) n = -n;
+    points_.push_back({pa, pb, n, n.dot(pb - pa), pair});
+  }
+
+  const CollisionMesh& A_;
+  const CollisionMesh& B_;
+  const geometry::Pose& X_WA_;
+  const geometry::Pose& X_WB_;
+  double tolerance_;
+  std::vector<ManifoldPoint> points_;
+  std::map<int, std::vector<int>> vertex_entries_;
+  std::set<std::pair<std::pair<int, int>, std::pair<int, int>>> edge_keys_;
+};
+
+}  // namespace
+
 std::vector<ManifoldPoint> contact_manifold(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
                                             const geometry::Pose& X_WB, double tolerance_m) {
-  std::vector<ManifoldPoint> points;
+  ManifoldBuilder builder(A, X_WA, B, X_WB, tolerance_m);
   traverse_close_pairs(A, X_WA, B, X_WB, [&] { return tolerance_m; }, [&](int ta, int tb) {
-    Eigen::Vector3d a[3], b[3], pa, pb;
-    corners_in_world(A, ta, X_WA, a);
-    corners_in_world(B, tb, X_WB, b);
-    const double d = triangle_triangle_distance(a, b, &pa, &pb);
-    if (d <= tolerance_m) {
-      Eigen::Vector3d n = pb - pa;
-      if (n.norm() > 1e-12 * (1 + pa.norm())) {
-        n.normalize();
-      } else {
-        n = (a[1] - a[0]).cross(a[2] - a[0]).normalized();
-      }
-      points.push_back({pa, pb, n, d, {ta, tb}});
-    }
+    builder.add_pair(ta, tb);
     return true;
   });
-  return points;
+  return builder.take();
 }
 
 }  // namespace arphys::collision

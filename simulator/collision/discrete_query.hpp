@@ -40,8 +40,11 @@ struct ManifoldPoint {
   double distance_m;                     // >= 0; 0 when the triangles intersect
   TrianglePair triangles;
 };
-// Every triangle pair closer than tolerance_m, with its closest points. The normal is
-// the direction between the closest points, or A's face normal when they coincide.
+// The contact features closer than tolerance_m: each vertex over the interior of the
+// other body's face (normal: that face's, oriented from A to B) and each pair of edges
+// whose closest points lie inside both (normal: their common one), without
+// duplicates. Two boxes stacked face to face give the corners of their overlap, which
+// a stable resting contact needs. distance_m is measured along the normal.
 std::vector<ManifoldPoint> contact_manifold(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
                                             const geometry::Pose& X_WB, double tolerance_m);
 

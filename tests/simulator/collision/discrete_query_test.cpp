@@ -40,6 +40,28 @@ TEST(DiscreteQuery, ManifoldOfACubeRestingOnACubeCoversTheContactFace) {
   EXPECT_TRUE(contact_manifold(base, geometry::Pose::Identity(), cube, geometry::translation_pose({0, 0, 0.21}), 1e-3).empty());
 }
 
+TEST(DiscreteQuery, ManifoldOfStackedBoxesGivesCornersAndEdgeCrossings) {
+  const CollisionMesh cube(geometry::make_box_mesh({0.2, 0.2, 0.2}));
+  // Same size, aligned, 1 um apart: the four coinciding corners, once each per body side.
+  const auto aligned = contact_manifold(cube, geometry::Pose::Identity(), cube, geometry::translation_pose({0, 0, 0.200001}), 1e-4);
+  ASSERT_GE(aligned.size(), 4u);
+  for (const auto& p : aligned) {
+    EXPECT_NEAR(p.distance_m, 1e-6, 1e-12);
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+  }
+  // Turned 45 degrees about z: the faces overlap in an octagon whose corners are edge
+  // crossings (no corner of either box lies over the other's face).
+  geometry::Pose turned = geometry::rotation_pose(Eigen::Vector3d::UnitZ(), M_PI / 4);
+  turned.translation() = Eigen::Vector3d(0, 0, 0.200001);
+  const auto crossed = contact_manifold(cube, geometry::Pose::Identity(), cube, turned, 1e-4);
+  EXPECT_EQ(crossed.size(), 8u);
+  for (const auto& p : crossed) {
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-9);
+    EXPECT_NEAR(p.distance_m, 1e-6, 1e-12);
+    EXPECT_NEAR(std::max(std::abs(p.point_A_W.x()), std::abs(p.point_A_W.y())), 0.1, 1e-9);  // on A's top edges
+  }
+}
+
 TEST(TriangleDistance, CrossingTrianglesAreAtZeroDistance) {
   const Eigen::Vector3d a[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const Eigen::Vector3d b[3] = {{0.2, 0.2, -1}, {0.2, 0.2, 1}, {0.3, 0.9, 0.5}};  // pierces a
