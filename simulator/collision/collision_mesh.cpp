@@ -13,8 +13,13 @@ CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh
     if (!(n.norm() > 0)) continue;
     for (int k = 0; k < 3; ++k) normals[edge_key(t[k], t[(k + 1) % 3])].push_back(n.normalized());
   }
-  for (const auto& [key, ns] : normals)
+  for (const auto& [key, ns] : normals) {
     if (ns.size() == 2 && ns[0].dot(ns[1]) > 1 - 1e-12) flat_edges_.insert(key);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto& n : ns) sum += n;
+    edge_normals_[key] = sum;
+  }
+  closed_ = geometry::mesh_topology(mesh_).closed();
 }
 
 std::shared_ptr<const CollisionMesh> CollisionMesh::load(const std::string& path, const Eigen::Vector3d& scale) {

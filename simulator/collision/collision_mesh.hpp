@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <unordered_set>
 #include <string>
 
@@ -27,6 +28,16 @@ class CollisionMesh {
   // True for an edge between two coplanar triangles (a face's internal diagonal): it
   // is no feature of the surface, and contacts on it are those of the face.
   bool is_flat_edge(int v0, int v1) const { return flat_edges_.count(edge_key(v0, v1)) > 0; }
+  // Closed (every edge shared by two triangles): then the triangles' counter-clockwise
+  // normals point out of a solid, and contacts use them; an open surface (a shell, a
+  // polygon soup) is two-sided and contacts take the side a feature is on.
+  bool closed() const { return closed_; }
+  // Sum of the unit normals of the triangles sharing an edge (body frame): on a solid
+  // it points out of the body across that edge.
+  Eigen::Vector3d edge_outward(int v0, int v1) const {
+    const auto it = edge_normals_.find(edge_key(v0, v1));
+    return it == edge_normals_.end() ? Eigen::Vector3d::Zero() : it->second;
+  }
 
   // The three corners of triangle i, body frame.
   void corners(int triangle, Eigen::Vector3d out[3]) const {
@@ -42,6 +53,8 @@ class CollisionMesh {
   geometry::TriangleMesh mesh_;
   ObbTree tree_;
   std::unordered_set<uint64_t> flat_edges_;
+  std::unordered_map<uint64_t, Eigen::Vector3d> edge_normals_;
+  bool closed_ = false;
 };
 
 }  // namespace arphys::collision

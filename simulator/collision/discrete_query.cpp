@@ -104,8 +104,8 @@ class ManifoldBuilder {
     const Eigen::Vector3d nA = (a[1] - a[0]).cross(a[2] - a[0]).normalized();
     const Eigen::Vector3d nB = (b[1] - b[0]).cross(b[2] - b[0]).normalized();
     for (int k = 0; k < 3; ++k) {
-      vertex_face(b[k], a, nA, +1, ib[k], {ta, tb});  // B's vertex over A's face
-      vertex_face(a[k], b, nB, -1, -1 - ia[k], {ta, tb});  // A's vertex over B's face
+      vertex_face(b[k], a, nA, A_.closed(), +1, ib[k], {ta, tb});      // B's vertex over A's face
+      vertex_face(a[k], b, nB, B_.closed(), -1, -1 - ia[k], {ta, tb});  // A's vertex over B's face
     }
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) edge_edge(a, i, b, j, ia, ib, {ta, tb});
@@ -116,15 +116,17 @@ class ManifoldBuilder {
  private:
   // `sign` +1: the vertex is B's, the face A's; -1 the other way round. The normal
   // always points from A to B. Vertex keys: B's vertex v as v, A's as -1 - v.
-  void vertex_face(const Eigen::Vector3d& v, const Eigen::Vector3d tri[3], Eigen::Vector3d n, double sign, int key,
-                   TrianglePair pair) {
+  void vertex_face(const Eigen::Vector3d& v, const Eigen::Vector3d tri[3], Eigen::Vector3d n, bool outward, double sign,
+                   int key, TrianglePair pair) {
     const Eigen::Vector3d on_face = closest_point_on_triangle(v, tri[0], tri[1], tri[2]);
     const double d = (v - on_face).norm();
     if (d > tolerance_) return;
     // Only a vertex over the face's interior: over an edge the contact is an edge one.
     const Eigen::Vector3d projected = v - n.dot(v - tri[0]) * n;
     if ((projected - on_face).norm() > 1e-9 * (1 + d + v.norm())) return;
-    if (n.dot(v - tri[0]) < 0 && d > 1e-12) n = -n;  // the side the vertex is on
+    // A solid's face pushes out along its outward normal even when the vertex is
+    // slightly inside; a shell's face pushes to the side the vertex is on.
+    if (!outward && n.dot(v - tri[0]) < 0 && d > 1e-12) n = -n;
     for (const int index : vertex_entries_[key])
       if (points_[index].normal_W.dot(sign * n) > 1 - 1e-9) return;  // coplanar neighbour: same contact
     vertex_entries_[key].push_back(static_cast<int>(points_.size()));
@@ -150,8 +152,15 @@ class ManifoldBuilder {
     const auto key = std::make_pair(std::minmax(ia[i], ia[(i + 1) % 3]), std::minmax(ib[j], ib[(j + 1) % 3]));
     if (!edge_keys_.insert(key).second) return;
     n.normalize();
-    // Orient from A to B: by the closest points when apart, else by the bodies' centres.
-    const Eigen::Vector3d from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
+    // Orient from A to B: out of A and into B by the faces' outward normals when both
+    // are solids, else by the closest points (or the bodies' origins when touching).
+    Eigen::Vector3d from_A_to_B;
+    if (A_.closed() && B_.closed()) {
+      from_A_to_B = X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]) -
+                    X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]);
+    } else {
+      from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
+    }
     if (n.dot(from_A_to_B) < 0) n = -n;
     points_.push_back({pa, pb, n, n.dot(pb - pa), pair});
   }

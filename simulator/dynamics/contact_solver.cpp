@@ -1,0 +1,279 @@
+#include "simulator/dynamics/contact_solver.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace arphys::dynamics {
+namespace {
+
+// One row's Jacobian: the 6-vectors multiplying body a's and body b's (v, w).
+struct JacobianRow {
+  Eigen::Matrix<double, 6, 1> a = Eigen::Matrix<double, 6, 1>::Zero(), b = Eigen::Matrix<double, 6, 1>::Zero();
+};
+
+JacobianRow jacobian(const ContactRow& row, const Eigen::Vector3d& direction, const std::vector<BodyInertia>& inertia) {
+  JacobianRow J;
+  if (row.body_b >= 0) {
+    J.b.head<3>() = direction;
+    J.b.tail<3>() = (row.point_W - inertia[row.body_b].com_W).cross(direction);
+  }
+  if (row.body_a >= 0) {
+    J.a.head<3>() = -direction;
+    J.a.tail<3>() = -(row.point_W - inertia[row.body_a].com_W).cross(direction);
+  }
+  return J;
+}
+
+Eigen::Matrix<double, 6, 1> inverse_mass_times(const BodyInertia& body, const Eigen::Matrix<double, 6, 1>& f) {
+  Eigen::Matrix<double, 6, 1> out;
+  out.head<3>() = body.inverse_mass_1_kg * f.head<3>();
+  out.tail<3>() = body.inverse_inertia_W * f.tail<3>();
+  return out;
+}
+
+double apply(const JacobianRow& J, const ContactRow& row, const std::vector<BodyVelocity>& u) {
+  double value = 0;
+  if (row.body_a >= 0) value += J.a.head<3>().dot(u[row.body_a].v_WC_m_s) + J.a.tail<3>().dot(u[row.body_a].w_W_rad_s);
+  if (row.body_b >= 0) value += J.b.head<3>().dot(u[row.body_b].v_WC_m_s) + J.b.tail<3>().dot(u[row.body_b].w_W_rad_s);
+  return value;
+}
+
+void add_impulse(const JacobianRow& J, const ContactRow& row, const std::vector<BodyInertia>& inertia, double impulse,
+                 std::vector<BodyVelocity>& u) {
+  auto add = [&](int body, const Eigen::Matrix<double, 6, 1>& j) {
+    const Eigen::Matrix<double, 6, 1> du = inverse_mass_times(inertia[body], impulse * j);
+    u[body].v_WC_m_s += du.head<3>();
+    u[body].w_W_rad_s += du.tail<3>();
+  };
+  if (row.body_a >= 0) add(row.body_a, J.a);
+  if (row.body_b >= 0) add(row.body_b, J.b);
+}
+
+// Delassus entry J_i M^-1 J_j^T.
+double delassus(const JacobianRow& Ji, const ContactRow& ri, const JacobianRow& Jj, const ContactRow& rj,
+                const std::vector<BodyInertia>& inertia) {
+  double value = 0;
+  auto term = [&](int body_i, const Eigen::Matrix<double, 6, 1>& ji, int body_j, const Eigen::Matrix<double, 6, 1>& jj) {
+    if (body_i >= 0 && body_i == body_j) value += ji.dot(inverse_mass_times(inertia[body_i], jj));
+  };
+  term(ri.body_a, Ji.a, rj.body_a, Jj.a);
+  term(ri.body_a, Ji.a, rj.body_b, Jj.b);
+  term(ri.body_b, Ji.b, rj.body_a, Jj.a);
+  term(ri.body_b, Ji.b, rj.body_b, Jj.b);
+  return value;
+}
+
+struct DualSolution {
+  Eigen::VectorXd lambda;
+  double residual = 0;
+  int iterations = 0;
+  bool converged = true;
+};
+
+// min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
+// equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
+// ridge keeps the passive block solvable when contacts are redundant (four corners
+// of a face constrain three degrees of freedom).
+DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q) {
+  const int n = static_cast<int>(q.size());
+  DualSolution out;
+  out.lambda = Eigen::VectorXd::Zero(n);
+  const double scale = std::max(1.0, q.cwiseAbs().maxCoeff());
+  const double tolerance = 1e-11 * scale;
+  const double ridge = 1e-13 * std::max(1e-300, A.diagonal().maxCoeff());
+  std::vector<char> passive(n, 0);
+  Eigen::VectorXd w = q;
+  const int max_outer = 3 * n + 20;
+  for (int outer = 0; outer < max_outer; ++outer) {
+    ++out.iterations;
+    int j = -1;
+    for (int i = 0; i < n; ++i)
+      if (!passive[i] && w[i] < -tolerance && (j < 0 || w[i] < w[j])) j = i;
+    if (j < 0) break;
+    passive[j] = 1;
+    for (int inner = 0; inner < 3 * n + 20; ++inner) {
+      std::vector<int> P;
+      for (int i = 0; i < n; ++i)
+        if (passive[i]) P.push_back(i);
+      Eigen::MatrixXd App(P.size(), P.size());
+      Eigen::VectorXd qp(P.size());
+      for (std::size_t r = 0; r < P.size(); ++r) {
+        qp[r] = q[P[r]];
+        for (std::size_t c = 0; c < P.size(); ++c) App(r, c) = A(P[r], P[c]);
+        App(r, r) += ridge;
+      }
+      const Eigen::VectorXd s = App.ldlt().solve(-qp);
+      if ((s.array() > 0).all()) {
+        for (std::size_t r = 0; r < P.size(); ++r) out.lambda[P[r]] = s[r];
+        break;
+      }
+      // Step from lambda towards s until a passive variable reaches zero.
+      double alpha = 1;
+      for (std::size_t r = 0; r < P.size(); ++r)
+        if (s[r] <= 0) alpha = std::min(alpha, out.lambda[P[r]] / (out.lambda[P[r]] - s[r]));
+      for (std::size_t r = 0; r < P.size(); ++r) {
+        double& l = out.lambda[P[r]];
+        l += alpha * (s[r] - l);
+        if (l <= 1e-300 || (s[r] <= 0 && l <= 1e-15 * scale)) {
+          l = 0;
+          passive[P[r]] = 0;
+        }
+      }
+    }
+    w = A * out.lambda + q;
+    if (!out.lambda.allFinite() || out.lambda.cwiseAbs().maxCoeff() > 1e12 * scale) {
+      out.converged = false;
+      break;
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    out.residual = std::max(out.residual, -w[i]);
+    if (out.lambda[i] > 0) out.residual = std::max(out.residual, std::abs(w[i]));
+  }
+  if (out.residual > 1e-6 * scale) out.converged = false;
+  return out;
+}
+
+// Union-find over dynamic bodies: rows that share a body belong to one island.
+std::vector<std::vector<int>> islands(int bodies, const std::vector<ContactRow>& rows) {
+  std::vector<int> parent(bodies);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& row : rows)
+    if (row.body_a >= 0 && row.body_b >= 0) parent[find(row.body_a)] = find(row.body_b);
+  std::vector<int> island_of(bodies, -1);
+  std::vector<std::vector<int>> groups;
+  for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
+    const int body = rows[r].body_a >= 0 ? rows[r].body_a : rows[r].body_b;
+    if (body < 0) continue;
+    const int root = find(body);
+    if (island_of[root] < 0) {
+      island_of[root] = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    groups[island_of[root]].push_back(r);
+  }
+  return groups;
+}
+
+// Orthonormal tangents of a normal, for the friction pyramid.
+void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2) {
+  t1 = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
+  t2 = n.cross(t1);
+}
+
+// Projected Gauss-Seidel over an island's rows, warm-started from `lambda`; friction
+// rows (two per frictional contact) are bounded by mu times their normal impulse.
+int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& u,
+                           const std::vector<ContactRow>& rows, const std::vector<int>& island, Eigen::VectorXd& lambda,
+                           int sweeps, bool normals_fixed) {
+  const int n = static_cast<int>(island.size());
+  std::vector<JacobianRow> J(n), T1(n), T2(n);
+  std::vector<double> d(n), d1(n), d2(n), f1(n, 0.0), f2(n, 0.0);
+  for (int k = 0; k < n; ++k) {
+    const ContactRow& row = rows[island[k]];
+    J[k] = jacobian(row, row.normal_W, inertia);
+    d[k] = delassus(J[k], row, J[k], row, inertia);
+    if (row.friction > 0) {
+      Eigen::Vector3d t1, t2;
+      tangents(row.normal_W, t1, t2);
+      T1[k] = jacobian(row, t1, inertia);
+      T2[k] = jacobian(row, t2, inertia);
+      d1[k] = delassus(T1[k], row, T1[k], row, inertia);
+      d2[k] = delassus(T2[k], row, T2[k], row, inertia);
+    }
+  }
+  int sweep = 0;
+  for (; sweep < sweeps; ++sweep) {
+    double change = 0;
+    for (int k = 0; k < n; ++k) {
+      const ContactRow& row = rows[island[k]];
+      if (!normals_fixed && d[k] > 0) {
+        const double w = apply(J[k], row, u) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
+        const double next = std::max(0.0, lambda[k] - w / d[k]);
+        add_impulse(J[k], row, inertia, next - lambda[k], u);
+        change = std::max(change, std::abs(next - lambda[k]));
+        lambda[k] = next;
+      }
+      if (row.friction > 0) {
+        const double bound = row.friction * lambda[k];
+        for (int dir = 0; dir < 2; ++dir) {
+          const JacobianRow& T = dir == 0 ? T1[k] : T2[k];
+          double& f = dir == 0 ? f1[k] : f2[k];
+          const double dd = dir == 0 ? d1[k] : d2[k];
+          if (!(dd > 0)) continue;
+          // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
+          const double next = std::clamp(f - apply(T, row, u) / dd, -bound, bound);
+          add_impulse(T, row, inertia, next - f, u);
+          change = std::max(change, std::abs(next - f));
+          f = next;
+        }
+      }
+    }
+    if (change < 1e-14) break;
+  }
+  return sweep;
+}
+
+}  // namespace
+
+ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
+                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options) {
+  ContactSolveResult result;
+  result.normal_impulses_N_s.assign(rows.size(), 0.0);
+  const std::vector<BodyVelocity> unconstrained = velocities;
+  for (const std::vector<int>& island : islands(static_cast<int>(velocities.size()), rows)) {
+    const int n = static_cast<int>(island.size());
+    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
+    bool frictional = false;
+    for (int r : island) frictional |= rows[r].friction > 0;
+    if (options.kind == ContactSolverKind::kExact) {
+      std::vector<JacobianRow> J(n);
+      for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
+      Eigen::MatrixXd A(n, n);
+      Eigen::VectorXd q(n);
+      for (int i = 0; i < n; ++i) {
+        const ContactRow& ri = rows[island[i]];
+        q[i] = apply(J[i], ri, velocities) + ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
+        for (int j = i; j < n; ++j) A(i, j) = A(j, i) = delassus(J[i], ri, J[j], rows[island[j]], inertia);
+      }
+      DualSolution dual = solve_dual_exact(A, q);
+      if (!dual.converged) {
+        // Contradictory demands: keep only "do not approach" (never push apart).
+        result.infeasible = true;
+        for (int i = 0; i < n; ++i) {
+          const ContactRow& ri = rows[island[i]];
+          q[i] = apply(J[i], ri, velocities) + std::min(0.0, ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s);
+        }
+        dual = solve_dual_exact(A, q);
+        if (!dual.converged) dual.lambda.setZero();  // give up on this island rather than launch it
+      }
+      lambda = dual.lambda;
+      result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
+      result.iterations += dual.iterations;
+      for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
+      if (frictional)
+        result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false);
+    } else {
+      result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false);
+      // Report how far the iterative answer is from the KKT conditions.
+      for (int k = 0; k < n; ++k) {
+        const ContactRow& row = rows[island[k]];
+        const JacobianRow J = jacobian(row, row.normal_W, inertia);
+        const double w = apply(J, row, velocities) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
+        result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, std::max(-w, lambda[k] > 0 ? std::abs(w) : 0.0));
+      }
+    }
+    for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = lambda[k];
+  }
+  (void)unconstrained;
+  return result;
+}
+
+}  // namespace arphys::dynamics

@@ -1,0 +1,61 @@
+#pragma once
+// Contact dynamics by Gauss's principle of least constraint (METHOD.md section 2), at
+// the velocity level of one time step: the new velocities are the admissible ones
+// closest to the unconstrained ones in the kinetic metric,
+//   u+ = argmin 1/2 (u - u*)^T M (u - u*)   subject to   J u >= beta,
+// J the contact-normal rows. The same problem, with beta from the restitution law,
+// is the impulse of an impact. Solved on its dual (lambda >= 0: the contact impulses),
+// exactly by an active-set method (Lawson-Hanson) with a KKT residual check, or
+// approximately by projected Gauss-Seidel, which also carries Coulomb friction.
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace arphys::dynamics {
+
+struct BodyVelocity {
+  Eigen::Vector3d v_WC_m_s = Eigen::Vector3d::Zero();  // centre of mass
+  Eigen::Vector3d w_W_rad_s = Eigen::Vector3d::Zero();
+};
+
+struct BodyInertia {
+  double inverse_mass_1_kg = 0;
+  Eigen::Matrix3d inverse_inertia_W = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d com_W = Eigen::Vector3d::Zero();
+};
+
+struct ContactRow {
+  int body_a = -1, body_b = -1;  // indices of dynamic bodies in the solve; -1: not dynamic
+  Eigen::Vector3d point_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal_W = Eigen::Vector3d::UnitZ();  // unit, from a to b
+  // After the solve: n . (v_b(p) - v_a(p)) >= min_normal_velocity, where the non-dynamic
+  // bodies contribute known_normal_velocity to that relative velocity.
+  double min_normal_velocity_m_s = 0;
+  double known_normal_velocity_m_s = 0;
+  double friction = 0;  // Coulomb coefficient; 0: frictionless
+};
+
+enum class ContactSolverKind { kExact, kProjectedGaussSeidel };
+
+struct ContactSolverOptions {
+  ContactSolverKind kind = ContactSolverKind::kExact;
+  int iterations = 50;  // projected Gauss-Seidel sweeps (and friction sweeps after an exact solve)
+};
+
+struct ContactSolveResult {
+  std::vector<double> normal_impulses_N_s;  // per row
+  // Largest violation of the KKT conditions: a constraint broken, or a pushing contact
+  // that is not exactly at its bound, in m/s. 0 for an exact solve up to rounding.
+  double kkt_residual_m_s = 0;
+  int iterations = 0;
+  // The constraints contradict each other (a body squeezed between non-dynamic ones):
+  // solved again with every push-apart demand dropped, so nothing is launched.
+  bool infeasible = false;
+};
+
+// Solves for `velocities` (in: unconstrained u*, out: u+). Independent groups of
+// bodies (islands) are solved separately.
+ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
+                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options);
+
+}  // namespace arphys::dynamics

@@ -1,0 +1,49 @@
+#pragma once
+// A rigid body of the simulation: its collision shape, its mass properties, how it
+// moves (static, kinematic: driven by tracking, dynamic: by the physics) and its state.
+#include <optional>
+#include <string>
+
+#include <Eigen/Geometry>
+
+#include "simulator/collision/shape.hpp"
+#include "simulator/dynamics/kinematic_trajectory.hpp"
+#include "simulator/geometry/mass_properties.hpp"
+
+namespace arphys::dynamics {
+
+enum class BodyMotion { kStatic, kKinematic, kDynamic };
+const char* to_string(BodyMotion motion);
+
+struct RigidBody {
+  std::string id;
+  BodyMotion motion = BodyMotion::kDynamic;
+  collision::Shape shape = collision::Shape::plane();
+  // Dynamic bodies: mass > 0; centre of mass and inertia about it in the body frame.
+  geometry::MassProperties mass;
+  double restitution = 0;           // in [0, 1]
+  std::optional<double> friction;   // Coulomb coefficient; none: frictionless
+  KinematicTrajectory trajectory;   // kinematic bodies: where tracking says they are
+
+  // State. X_WB: body frame in the world; v_WC: velocity of the centre of mass;
+  // w_W: angular velocity; all world frame, SI units.
+  geometry::Pose X_WB = geometry::Pose::Identity();
+  Eigen::Vector3d v_WC_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_W_rad_s = Eigen::Vector3d::Zero();
+
+  bool is_dynamic() const { return motion == BodyMotion::kDynamic; }
+  Eigen::Vector3d com_W() const { return X_WB * mass.center_of_mass_m; }
+  Eigen::Vector3d velocity_of_point(const Eigen::Vector3d& p_W) const { return v_WC_m_s + w_W_rad_s.cross(p_W - com_W()); }
+  // Velocity of the body frame's origin (what the CSV reports).
+  Eigen::Vector3d origin_velocity() const { return velocity_of_point(X_WB.translation()); }
+  Eigen::Matrix3d inertia_W() const {
+    const Eigen::Matrix3d R = X_WB.linear();
+    return R * mass.inertia_about_com_kg_m2 * R.transpose();
+  }
+  Eigen::Matrix3d inverse_inertia_W() const;
+  double kinetic_energy_J() const;
+  // Radius about the body origin containing the whole shape (infinite for a plane).
+  double bounding_radius_m() const;
+};
+
+}  // namespace arphys::dynamics
