@@ -1,5 +1,6 @@
 #include "simulator/collision/collision_mesh.hpp"
 
+#include <cmath>
 #include <unordered_map>
 
 namespace arphys::collision {
@@ -7,11 +8,18 @@ namespace arphys::collision {
 CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh)), tree_(mesh_) {
   // Edges shared by exactly two triangles with the same normal are flat.
   std::unordered_map<uint64_t, std::vector<Eigen::Vector3d>> normals;
+  vertex_normals_.assign(mesh_.vertices_m.size(), Eigen::Vector3d::Zero());
   for (const auto& t : mesh_.triangles) {
     const Eigen::Vector3d n =
         (mesh_.vertices_m[t[1]] - mesh_.vertices_m[t[0]]).cross(mesh_.vertices_m[t[2]] - mesh_.vertices_m[t[0]]);
     if (!(n.norm() > 0)) continue;
-    for (int k = 0; k < 3; ++k) normals[edge_key(t[k], t[(k + 1) % 3])].push_back(n.normalized());
+    for (int k = 0; k < 3; ++k) {
+      normals[edge_key(t[k], t[(k + 1) % 3])].push_back(n.normalized());
+      // Weighted by the corner angle, so a face split into many triangles counts once.
+      const Eigen::Vector3d e1 = mesh_.vertices_m[t[(k + 1) % 3]] - mesh_.vertices_m[t[k]];
+      const Eigen::Vector3d e2 = mesh_.vertices_m[t[(k + 2) % 3]] - mesh_.vertices_m[t[k]];
+      vertex_normals_[t[k]] += std::atan2(e1.cross(e2).norm(), e1.dot(e2)) * n.normalized();
+    }
   }
   for (const auto& [key, ns] : normals) {
     if (ns.size() == 2 && ns[0].dot(ns[1]) > 1 - 1e-12) flat_edges_.insert(key);

@@ -32,6 +32,10 @@ class CollisionMesh {
   // normals point out of a solid, and contacts use them; an open surface (a shell, a
   // polygon soup) is two-sided and contacts take the side a feature is on.
   bool closed() const { return closed_; }
+  // Sum of the unit normals of the triangles around a vertex (body frame): on a solid it
+  // points out of the body at that vertex. Contacts use it to keep only the faces a
+  // vertex can really rest on (not a neighbouring face it merely grazes).
+  const Eigen::Vector3d& vertex_outward(int v) const { return vertex_normals_[v]; }
   // Sum of the unit normals of the triangles sharing an edge (body frame): on a solid
   // it points out of the body across that edge.
   Eigen::Vector3d edge_outward(int v0, int v1) const {
@@ -54,6 +58,7 @@ class CollisionMesh {
   ObbTree tree_;
   std::unordered_set<uint64_t> flat_edges_;
   std::unordered_map<uint64_t, Eigen::Vector3d> edge_normals_;
+  std::vector<Eigen::Vector3d> vertex_normals_;
   bool closed_ = false;
 };
 

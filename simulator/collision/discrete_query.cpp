@@ -104,8 +104,11 @@ class ManifoldBuilder {
     const Eigen::Vector3d nA = (a[1] - a[0]).cross(a[2] - a[0]).normalized();
     const Eigen::Vector3d nB = (b[1] - b[0]).cross(b[2] - b[0]).normalized();
     for (int k = 0; k < 3; ++k) {
-      vertex_face(b[k], a, nA, A_.closed(), +1, ib[k], {ta, tb});      // B's vertex over A's face
-      vertex_face(a[k], b, nB, B_.closed(), -1, -1 - ia[k], {ta, tb});  // A's vertex over B's face
+      // B's vertex over A's face, and A's vertex over B's face.
+      const Eigen::Vector3d out_B = B_.closed() ? Eigen::Vector3d(X_WB_.linear() * B_.vertex_outward(ib[k])) : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d out_A = A_.closed() ? Eigen::Vector3d(X_WA_.linear() * A_.vertex_outward(ia[k])) : Eigen::Vector3d::Zero();
+      vertex_face(b[k], out_B, a, nA, A_.closed(), +1, ib[k], {ta, tb});
+      vertex_face(a[k], out_A, b, nB, B_.closed(), -1, -1 - ia[k], {ta, tb});
     }
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) edge_edge(a, i, b, j, ia, ib, {ta, tb});
@@ -116,8 +119,10 @@ class ManifoldBuilder {
  private:
   // `sign` +1: the vertex is B's, the face A's; -1 the other way round. The normal
   // always points from A to B. Vertex keys: B's vertex v as v, A's as -1 - v.
-  void vertex_face(const Eigen::Vector3d& v, const Eigen::Vector3d tri[3], Eigen::Vector3d n, bool outward, double sign,
-                   int key, TrianglePair pair) {
+  // `vertex_out` (zero for an open surface) is the outward direction of the solid the
+  // vertex belongs to: a face can only hold the vertex back if it faces that way.
+  void vertex_face(const Eigen::Vector3d& v, const Eigen::Vector3d& vertex_out, const Eigen::Vector3d tri[3],
+                   Eigen::Vector3d n, bool outward, double sign, int key, TrianglePair pair) {
     const Eigen::Vector3d on_face = closest_point_on_triangle(v, tri[0], tri[1], tri[2]);
     const double d = (v - on_face).norm();
     if (d > tolerance_) return;
@@ -127,8 +132,14 @@ class ManifoldBuilder {
     // A solid's face pushes out along its outward normal even when the vertex is
     // slightly inside; a shell's face pushes to the side the vertex is on.
     if (!outward && n.dot(v - tri[0]) < 0 && d > 1e-12) n = -n;
+    if (vertex_out.dot(n) >= -1e-9 * vertex_out.norm()) return;  // the face does not oppose the vertex
     for (const int index : vertex_entries_[key])
       if (points_[index].normal_W.dot(sign * n) > 1 - 1e-9) return;  // coplanar neighbour: same contact
+    // Two corners meeting (stacked boxes): one vertex/face contact of each body at the
+    // same place and normal; keep one.
+    const Eigen::Vector3d where = sign > 0 ? v : on_face;
+    for (const ManifoldPoint& p : points_)
+      if ((p.point_B_W - where).norm() <= 1e-9 * (1 + where.norm()) && p.normal_W.dot(sign * n) > 1 - 1e-9) return;
     vertex_entries_[key].push_back(static_cast<int>(points_.size()));
     const Eigen::Vector3d normal = sign * n;
     const Eigen::Vector3d on_A = sign > 0 ? on_face : v, on_B = sign > 0 ? v : on_face;

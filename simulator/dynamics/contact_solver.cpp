@@ -227,7 +227,6 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
                                   const std::vector<ContactRow>& rows, const ContactSolverOptions& options) {
   ContactSolveResult result;
   result.normal_impulses_N_s.assign(rows.size(), 0.0);
-  const std::vector<BodyVelocity> unconstrained = velocities;
   for (const std::vector<int>& island : islands(static_cast<int>(velocities.size()), rows)) {
     const int n = static_cast<int>(island.size());
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
@@ -272,7 +271,6 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     }
     for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = lambda[k];
   }
-  (void)unconstrained;
   return result;
 }
 

@@ -1,0 +1,271 @@
+#include "simulator/dynamics/world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+#include "simulator/collision/broad_phase.hpp"
+#include "simulator/collision/shape_query.hpp"
+
+namespace arphys::dynamics {
+namespace {
+
+Eigen::AlignedBox3d ball_bounds(const Eigen::Vector3d& centre, double radius) {
+  if (!std::isfinite(radius)) {
+    const double inf = std::numeric_limits<double>::infinity();
+    return Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-inf), Eigen::Vector3d::Constant(inf));
+  }
+  return Eigen::AlignedBox3d(centre.array() - radius, centre.array() + radius);
+}
+
+// A body's pose after moving its centre of mass with v and turning with w for h.
+geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h) {
+  const double angle = u.w_W_rad_s.norm() * h;
+  Eigen::Matrix3d R = body.X_WB.linear();
+  if (angle > 0) R = Eigen::AngleAxisd(angle, u.w_W_rad_s.normalized()).toRotationMatrix() * R;
+  // Re-orthonormalise: thousands of steps of products drift off SO(3).
+  R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+  geometry::Pose X = geometry::Pose::Identity();
+  X.linear() = R;
+  X.translation() = body.com_W() + u.v_WC_m_s * h - R * body.mass.center_of_mass_m;
+  return X;
+}
+
+double combined_friction(const RigidBody& a, const RigidBody& b) {
+  if (a.friction && b.friction) return std::sqrt(*a.friction * *b.friction);
+  if (a.friction) return *a.friction;
+  if (b.friction) return *b.friction;
+  return 0;
+}
+
+}  // namespace
+
+World::World(WorldOptions options) : options_(std::move(options)) {}
+
+int World::add_body(RigidBody body) {
+  if (!body.X_WB.matrix().allFinite()) throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite pose");
+  if (body.is_dynamic()) {
+    if (body.shape.type() == collision::Shape::Type::kPlane)
+      throw std::invalid_argument("World::add_body: body '" + body.id + "' is a dynamic plane (a plane has no mass)");
+    if (!(body.mass.mass_kg > 0) || !std::isfinite(body.mass.mass_kg))
+      throw std::invalid_argument("World::add_body: body '" + body.id + "' has mass " + std::to_string(body.mass.mass_kg) +
+                                  " kg, expected a positive mass");
+    const Eigen::Matrix3d& I = body.mass.inertia_about_com_kg_m2;
+    if (!I.allFinite() || !(I.determinant() > 0))
+      throw std::invalid_argument("World::add_body: body '" + body.id + "' has a singular inertia");
+    if (!body.v_WC_m_s.allFinite() || !body.w_W_rad_s.allFinite())
+      throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite velocity");
+  }
+  if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
+  radius_m_.push_back(body.bounding_radius_m());
+  bodies_.push_back(std::move(body));
+  return static_cast<int>(bodies_.size()) - 1;
+}
+
+int World::find(const std::string& id) const {
+  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i)
+    if (bodies_[i].id == id) return i;
+  return -1;
+}
+
+void World::set_kinematic_state(double t_s) {
+  for (RigidBody& body : bodies_) {
+    if (body.motion != BodyMotion::kKinematic || body.trajectory.empty()) continue;
+    body.X_WB = body.trajectory.pose_at(t_s);
+    const Twist twist = body.trajectory.twist_at(t_s);
+    body.w_W_rad_s = twist.w_W_rad_s;
+    body.v_WC_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
+  }
+}
+
+std::vector<Contact> World::gather_contacts(const std::map<std::pair<int, int>, double>& impacts) const {
+  const double tolerance = options_.contact_tolerance_m;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  boxes.reserve(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
+  std::vector<Contact> contacts;
+  auto add = [&](int i, int j, double reach) {
+    for (const auto& feature : collision::contact_manifold(bodies_[i].shape, bodies_[i].X_WB, bodies_[j].shape,
+                                                           bodies_[j].X_WB, reach))
+      contacts.push_back({i, j, feature, 0.0});
+  };
+  for (const auto& [i, j] : collision::overlapping_pairs(boxes)) {
+    const RigidBody& a = bodies_[i];
+    const RigidBody& b = bodies_[j];
+    if (!a.is_dynamic() && !b.is_dynamic()) continue;
+    if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
+    if (!impacts.count({i, j})) add(i, j, tolerance);
+  }
+  // Pairs the CCD found meeting within the step: every feature they can reach.
+  for (const auto& [pair, reach] : impacts) add(pair.first, pair.second, std::max(reach, tolerance));
+  return contacts;
+}
+
+std::vector<BodyVelocity> World::solve(double h, const std::map<std::pair<int, int>, double>& impacts,
+                                        StepReport& report) {
+  contacts_ = gather_contacts(impacts);
+  // Dynamic bodies are the unknowns, in order.
+  std::vector<int> unknown(bodies_.size(), -1);
+  std::vector<BodyInertia> inertia;
+  std::vector<BodyVelocity> u;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    const RigidBody& body = bodies_[i];
+    if (!body.is_dynamic()) continue;
+    unknown[i] = static_cast<int>(u.size());
+    BodyInertia in;
+    in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
+    in.inverse_inertia_W = body.inverse_inertia_W();
+    in.com_W = body.com_W();
+    inertia.push_back(in);
+    // Unconstrained: gravity, and the gyroscopic term dw/dt = -I^-1 (w x I w).
+    BodyVelocity v;
+    v.v_WC_m_s = body.v_WC_m_s + h * options_.gravity_m_s2;
+    const Eigen::Matrix3d I = body.inertia_W();
+    v.w_W_rad_s = body.w_W_rad_s - h * (in.inverse_inertia_W * body.w_W_rad_s.cross(I * body.w_W_rad_s));
+    u.push_back(v);
+  }
+  std::vector<ContactRow> rows;
+  rows.reserve(contacts_.size());
+  double deepest = 0;
+  for (const Contact& c : contacts_) {
+    const RigidBody& a = bodies_[c.body_a];
+    const RigidBody& b = bodies_[c.body_b];
+    ContactRow row;
+    row.body_a = unknown[c.body_a];
+    row.body_b = unknown[c.body_b];
+    row.normal_W = c.feature.normal_W;
+    row.point_W = 0.5 * (c.feature.point_A_W + c.feature.point_B_W);
+    if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
+    if (!b.is_dynamic()) row.known_normal_velocity_m_s += row.normal_W.dot(b.velocity_of_point(row.point_W));
+    const double gap = c.feature.distance_m;
+    deepest = std::max(deepest, -gap);
+    // Close at most to the resting gap within h; undo an overlap, but not violently.
+    row.min_normal_velocity_m_s = std::min(-(gap - options_.contact_gap_m) / h, options_.max_depenetration_speed_m_s);
+    // An impact: closing fast enough to bounce and, at that speed, meeting within h.
+    // The bounce then happens at the step boundary, as the velocity update of a
+    // symplectic Euler step, which keeps an elastic ball's apex.
+    const double approach = row.normal_W.dot(b.velocity_of_point(row.point_W) - a.velocity_of_point(row.point_W));
+    if (approach < -options_.restitution_threshold_m_s && -approach * h >= gap - options_.contact_gap_m)
+      row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
+    row.friction = combined_friction(a, b);
+    rows.push_back(row);
+  }
+  report.max_penetration_m = std::max(report.max_penetration_m, deepest);
+  report.contacts = static_cast<int>(rows.size());
+  const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver);
+  report.kkt_residual_m_s = std::max(report.kkt_residual_m_s, result.kkt_residual_m_s);
+  report.infeasible |= result.infeasible;
+  report.solver_iterations += result.iterations;
+  for (std::size_t k = 0; k < contacts_.size(); ++k) contacts_[k].impulse_N_s = result.normal_impulses_N_s[k];
+  return u;
+}
+
+std::vector<geometry::Pose> World::candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const {
+  std::vector<geometry::Pose> next(bodies_.size());
+  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
+    const RigidBody& body = bodies_[i];
+    if (body.is_dynamic()) {
+      next[i] = integrate(body, u[k++], h);
+    } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
+      next[i] = body.trajectory.pose_at(time_s_ + elapsed + h);
+    } else {
+      next[i] = body.X_WB;
+    }
+  }
+  return next;
+}
+
+double World::earliest_impact(const std::vector<geometry::Pose>& next, std::vector<std::pair<int, int>>* meeting) const {
+  std::vector<Eigen::AlignedBox3d> swept;
+  swept.reserve(bodies_.size());
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    swept.push_back(collision::swept_bounds(geometry::ScrewMotion(bodies_[i].X_WB, next[i]), Eigen::Vector3d::Zero(),
+                                            radius_m_[i], 4));
+  double earliest = 1.0;
+  for (const auto& [i, j] : collision::overlapping_pairs(swept)) {
+    const RigidBody& a = bodies_[i];
+    const RigidBody& b = bodies_[j];
+    if (!a.is_dynamic() && !b.is_dynamic()) continue;
+    if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
+    const auto r = collision::time_of_impact(a.shape, geometry::ScrewMotion(a.X_WB, next[i]), b.shape,
+                                             geometry::ScrewMotion(b.X_WB, next[j]), options_.ccd);
+    // Already overlapping at the start: the contacts (depenetration) deal with it.
+    if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0) continue;
+    earliest = std::min(earliest, r.time_of_impact);
+    if (meeting) meeting->emplace_back(i, j);
+  }
+  return earliest;
+}
+
+double World::reach_m(int i, const std::vector<BodyVelocity>& u, const std::vector<int>& unknown, double h) const {
+  const RigidBody& body = bodies_[i];
+  if (!std::isfinite(radius_m_[i])) return 0;
+  Eigen::Vector3d v = body.v_WC_m_s, w = body.w_W_rad_s;
+  if (unknown[i] >= 0) v = u[unknown[i]].v_WC_m_s, w = u[unknown[i]].w_W_rad_s;
+  return (v.norm() + w.norm() * (radius_m_[i] + (body.com_W() - body.X_WB.translation()).norm())) * h;
+}
+
+StepReport World::step(double dt_s) {
+  if (!(dt_s > 0) || !std::isfinite(dt_s)) throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
+  StepReport report;
+  double elapsed = 0;
+  const double end = time_s_ + dt_s;
+  std::vector<int> unknown(bodies_.size(), -1);
+  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i)
+    if (bodies_[i].is_dynamic()) unknown[i] = static_cast<int>(k++);
+  while (dt_s - elapsed > 1e-12 * dt_s) {
+    double h = dt_s - elapsed;
+    set_kinematic_state(time_s_ + elapsed);
+    // Solve, move, and let the CCD say whether anything meets inside the step. Pairs
+    // that do join the constraints with every feature they can reach, and the step is
+    // solved again: the impact is then a constraint of this step (its bounce a velocity
+    // update at the step boundary), and nothing ends up inside anything.
+    std::map<std::pair<int, int>, double> impacts;
+    std::vector<BodyVelocity> u = solve(h, impacts, report);
+    std::vector<geometry::Pose> next = candidate_poses(u, elapsed, h);
+    double tau = 1.0;
+    for (int round = 0; round < 3; ++round) {
+      std::vector<std::pair<int, int>> meeting;
+      tau = earliest_impact(next, &meeting);
+      if (tau >= 1.0) break;
+      ++report.events;
+      bool grew = false;
+      for (const auto& pair : meeting) {
+        const double reach = 2 * (reach_m(pair.first, u, unknown, h) + reach_m(pair.second, u, unknown, h)) +
+                             options_.contact_tolerance_m;
+        double& known = impacts[pair];
+        if (reach > known) known = reach, grew = true;
+      }
+      if (!grew) break;
+      u = solve(h, impacts, report);
+      next = candidate_poses(u, elapsed, h);
+    }
+    if (tau < 1.0) {
+      // Still meeting (a turning body whose constraints were linearised): stop at the
+      // impact, with the velocities of the step, and go on from there.
+      h *= tau;
+      if (report.events >= options_.max_events_per_step) report.events_capped = true;
+    }
+    for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
+      RigidBody& body = bodies_[i];
+      if (body.is_dynamic()) {
+        body.X_WB = tau >= 1.0 ? next[i] : geometry::ScrewMotion(body.X_WB, next[i]).pose_at(tau);
+        body.v_WC_m_s = u[k].v_WC_m_s;
+        body.w_W_rad_s = u[k].w_W_rad_s;
+        ++k;
+      } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
+        body.X_WB = body.trajectory.pose_at(time_s_ + elapsed + h);
+      }
+    }
+    elapsed += h;
+    if (report.events_capped) break;
+  }
+  time_s_ = end;
+  set_kinematic_state(time_s_);
+  return report;
+}
+
+}  // namespace arphys::dynamics

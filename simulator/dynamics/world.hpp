@@ -1,0 +1,103 @@
+#pragma once
+// The simulated world: bodies, and the time stepping of METHOD.md section 2 driven by
+// the CCD of section 1. One step of dt:
+//   1. contacts: every feature pair closer than contact_tolerance_m;
+//   2. unconstrained velocities: gravity and gyroscopic terms over the time left;
+//   3. Gauss's principle at the velocity level (contact_solver.hpp): resting contacts
+//      may close to contact_gap_m but not further, approaching ones bounce with their
+//      restitution;
+//   4. the bodies' screw motions to their candidate poses are checked by CCD; a pair
+//      found meeting inside the step joins the constraints with every feature it can
+//      reach and 3 is solved again, so the impact (with its restitution) happens in
+//      this step; if the CCD still finds a meeting (linearised constraints of a
+//      turning body), the step stops at that time of impact and continues from it, at
+//      most max_events_per_step times.
+// Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
+// push dynamic ones through the same contacts. Nothing ever passes through anything:
+// surfaces only meet at a CCD time of impact, where they touch.
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "simulator/collision/continuous_query.hpp"
+#include "simulator/collision/discrete_query.hpp"
+#include "simulator/dynamics/contact_solver.hpp"
+#include "simulator/dynamics/rigid_body.hpp"
+
+namespace arphys::dynamics {
+
+struct WorldOptions {
+  Eigen::Vector3d gravity_m_s2{0, 0, -9.81};
+  // Feature pairs closer than this are constraints of the step.
+  double contact_tolerance_m = 1e-3;
+  // The gap resting contacts keep: surfaces never quite touch at rest, so the CCD of the
+  // next step does not see them as impacts (no endless tiny events).
+  double contact_gap_m = 1e-6;
+  // Speed at which an overlap (a tracked body pushed into a virtual one faster than it
+  // could move) is undone; bounded so nothing is launched.
+  double max_depenetration_speed_m_s = 0.5;
+  // Approach speeds below this do not bounce (resting contact under gravity).
+  double restitution_threshold_m_s = 0.05;
+  int max_events_per_step = 16;
+  ContactSolverOptions solver;
+  collision::ContinuousOptions ccd;
+};
+
+struct Contact {
+  int body_a = -1, body_b = -1;  // indices into World::bodies()
+  collision::ManifoldPoint feature;
+  double impulse_N_s = 0;  // normal impulse of the last solve
+};
+
+struct StepReport {
+  int events = 0;               // times of impact handled inside the step
+  bool events_capped = false;   // the step ended at an impact (time kept, motion dropped)
+  int contacts = 0;             // constraints in the last solve of the step
+  bool infeasible = false;      // a body squeezed between non-dynamic ones
+  double kkt_residual_m_s = 0;  // worst over the step's solves
+  double max_penetration_m = 0; // deepest overlap among the contacts (0: none)
+  int solver_iterations = 0;
+};
+
+class World {
+ public:
+  explicit World(WorldOptions options = {});
+
+  // Adds a body; a dynamic one needs a positive mass and an invertible inertia, and
+  // every body a finite pose (std::invalid_argument naming the body otherwise).
+  int add_body(RigidBody body);
+  StepReport step(double dt_s);
+
+  double time_s() const { return time_s_; }
+  const std::vector<RigidBody>& bodies() const { return bodies_; }
+  RigidBody& body(int index) { return bodies_.at(index); }
+  int find(const std::string& id) const;  // -1 when absent
+  const std::vector<Contact>& contacts() const { return contacts_; }
+  const WorldOptions& options() const { return options_; }
+  WorldOptions& options() { return options_; }
+
+ private:
+  // Contacts within contact_tolerance_m, and for the pairs in `impacts` (found meeting
+  // by the CCD) every feature within their reach.
+  std::vector<Contact> gather_contacts(const std::map<std::pair<int, int>, double>& impacts) const;
+  // Solves the contacts for the time h left in the step, from the current velocities;
+  // returns the velocities to move with.
+  std::vector<BodyVelocity> solve(double h, const std::map<std::pair<int, int>, double>& impacts, StepReport& report);
+  // How far body i's points can move in h with the velocities u (or its own).
+  double reach_m(int i, const std::vector<BodyVelocity>& u, const std::vector<int>& unknown, double h) const;
+  // Where the bodies would be after h from now (elapsed into the step) with velocities u.
+  std::vector<geometry::Pose> candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const;
+  // Earliest time of impact (fraction of h) of the motions from the current poses to
+  // `next`, or 1.
+  double earliest_impact(const std::vector<geometry::Pose>& next, std::vector<std::pair<int, int>>* meeting) const;
+  void set_kinematic_state(double t_s);
+
+  WorldOptions options_;
+  std::vector<RigidBody> bodies_;
+  std::vector<double> radius_m_;  // bounding radius about each body origin
+  std::vector<Contact> contacts_;
+  double time_s_ = 0;
+};
+
+}  // namespace arphys::dynamics
