@@ -218,7 +218,7 @@ Motion parse_motion(const Reader& r, const YAML::Node& node, const std::string& 
 ObjectConfig parse_object(const Reader& r, const YAML::Node& node, const std::string& key) {
   r.only_keys(node, key,
               {"id", "role", "motion", "collision", "render", "mass_kg", "density_kg_m3", "restitution", "friction",
-               "pose", "markers", "spawn"});
+               "pose", "velocity_m_s", "angular_velocity_rad_s", "trajectory", "markers", "spawn"});
   ObjectConfig object;
   object.id = r.string(r.required(node, key, "id"), key + ".id");
   object.role = parse_role(r, r.required(node, key, "role"), key + ".role");
@@ -253,6 +253,33 @@ ObjectConfig parse_object(const Reader& r, const YAML::Node& node, const std::st
     }
   }
   if (node["pose"].IsDefined()) object.X_WO = r.pose(node["pose"], key + ".pose");
+  for (const char* name : {"velocity_m_s", "angular_velocity_rad_s"}) {
+    if (!node[name].IsDefined()) continue;
+    if (object.motion != Motion::kDynamic)
+      r.fail(node[name], key + "." + name, "only a dynamic object has an initial velocity (a kinematic one follows its trajectory)");
+    const bool linear = std::string(name) == "velocity_m_s";
+    (linear ? object.v_WO_m_s : object.w_WO_rad_s) = r.vector(node[name], key + "." + name, 3, linear ? "m/s" : "rad/s");
+  }
+  const YAML::Node trajectory = node["trajectory"];
+  if (trajectory.IsDefined()) {
+    const std::string tkey = key + ".trajectory";
+    if (object.motion != Motion::kKinematic) r.fail(trajectory, tkey, "only a kinematic object follows a trajectory");
+    if (!trajectory.IsSequence() || trajectory.size() == 0)
+      r.fail(trajectory, tkey, "got " + Reader::shown(trajectory) + ", expected a non-empty list of {t_s, pose}");
+    for (std::size_t i = 0; i < trajectory.size(); ++i) {
+      const std::string ikey = tkey + "[" + std::to_string(i) + "]";
+      r.only_keys(trajectory[i], ikey, {"t_s", "pose"});
+      TimedPoseConfig sample;
+      sample.t_s = r.number(r.required(trajectory[i], ikey, "t_s"), ikey + ".t_s", "a time in seconds");
+      if (!object.trajectory.empty() && !(sample.t_s > object.trajectory.back().t_s)) {
+        r.fail(trajectory[i]["t_s"], ikey + ".t_s",
+               "got " + trajectory[i]["t_s"].Scalar() + ", expected a time after the previous one (" +
+                   std::to_string(object.trajectory.back().t_s) + " s)");
+      }
+      sample.X_WO = r.pose(r.required(trajectory[i], ikey, "pose"), ikey + ".pose");
+      object.trajectory.push_back(sample);
+    }
+  }
 
   const YAML::Node markers = node["markers"];
   if (markers.IsDefined()) {
@@ -328,7 +355,7 @@ SceneConfig load_scene(const std::string& path_in) {
   SceneConfig scene;
   scene.file = path.string();
   scene.name = r.string(r.required(root, "", "name"), "name");
-  scene.camera_file = r.path(r.required(root, "", "camera"), "camera", "camera file");
+  if (root["camera"].IsDefined()) scene.camera_file = r.path(root["camera"], "camera", "camera file");
 
   if (root["lcm"].IsDefined()) {
     r.only_keys(root["lcm"], "lcm", {"url"});
@@ -353,7 +380,24 @@ SceneConfig load_scene(const std::string& path_in) {
   }
   if (root["physics"].IsDefined()) {
     const YAML::Node ph = root["physics"];
-    r.only_keys(ph, "physics", {"gravity_m_s2", "time_step_s"});
+    r.only_keys(ph, "physics", {"gravity_m_s2", "time_step_s", "solver", "solver_iterations", "tracking_policy"});
+    if (ph["solver"].IsDefined()) {
+      scene.solver = r.string(ph["solver"], "physics.solver");
+      if (scene.solver != "exact" && scene.solver != "iterative")
+        r.fail(ph["solver"], "physics.solver", "got '" + scene.solver + "', expected 'exact' or 'iterative'");
+    }
+    if (ph["solver_iterations"].IsDefined()) {
+      scene.solver_iterations = r.integer(ph["solver_iterations"], "physics.solver_iterations", "a count of sweeps");
+      if (scene.solver_iterations < 1 || scene.solver_iterations > 100000)
+        r.fail(ph["solver_iterations"], "physics.solver_iterations",
+               "got " + ph["solver_iterations"].Scalar() + ", expected 1 to 100000 sweeps");
+    }
+    if (ph["tracking_policy"].IsDefined()) {
+      scene.tracking_policy = r.string(ph["tracking_policy"], "physics.tracking_policy");
+      if (scene.tracking_policy != "delay" && scene.tracking_policy != "extrapolate")
+        r.fail(ph["tracking_policy"], "physics.tracking_policy",
+               "got '" + scene.tracking_policy + "', expected 'delay' or 'extrapolate'");
+    }
     if (ph["gravity_m_s2"].IsDefined()) scene.gravity_m_s2 = r.vector(ph["gravity_m_s2"], "physics.gravity_m_s2", 3, "m/s^2");
     if (ph["time_step_s"].IsDefined()) {
       scene.time_step_s = r.positive(ph["time_step_s"], "physics.time_step_s", "a positive time step in seconds");

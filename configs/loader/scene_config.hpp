@@ -42,6 +42,12 @@ struct SpawnConfig {
   Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
 };
 
+// A tracked (or scripted) pose of a kinematic object at a time.
+struct TimedPoseConfig {
+  double t_s = 0;
+  geometry::Pose X_WO = geometry::Pose::Identity();
+};
+
 struct ObjectConfig {
   std::string id;
   Role role = Role::kVirtual;
@@ -53,6 +59,12 @@ struct ObjectConfig {
   double restitution = 0.0;             // coefficient of restitution in [0, 1]
   std::optional<double> friction;       // Coulomb coefficient; absent = frictionless
   geometry::Pose X_WO = geometry::Pose::Identity();  // initial (or fixed) pose in the world
+  // Dynamic objects: initial velocity of the object frame's origin and angular velocity.
+  Eigen::Vector3d v_WO_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WO_rad_s = Eigen::Vector3d::Zero();
+  // Kinematic objects driven by a script instead of tracking (headless runs, tests):
+  // poses at strictly increasing times, screw-interpolated between them.
+  std::vector<TimedPoseConfig> trajectory;
   std::vector<MarkerConfig> markers;    // real objects only
   // Virtual objects: instances created at start, and the cap on live instances.
   std::vector<SpawnConfig> spawn_at_start;
@@ -77,11 +89,17 @@ struct ChannelNames {
 struct SceneConfig {
   std::string file;         // absolute path of the scene file
   std::string name;
-  std::string camera_file;  // absolute path of the camera calibration file
+  std::string camera_file;  // absolute path of the camera calibration file; empty for headless scenes
   std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0";
   ChannelNames channels;
   Eigen::Vector3d gravity_m_s2{0, 0, -9.81};
   double time_step_s = 0.01;
+  std::string solver = "exact";   // contact solver: "exact" (active set) or "iterative" (projected Gauss-Seidel)
+  int solver_iterations = 50;     // iterative sweeps (and friction sweeps after an exact solve)
+  // How tracked poses drive kinematic bodies: "delay" (move one frame behind, along
+  // the screw between the last two poses: smooth, adds one frame of latency) or
+  // "extrapolate" (continue the last twist until the next pose arrives, then correct).
+  std::string tracking_policy = "delay";
   std::vector<ObjectConfig> objects;
 
   const ObjectConfig* find_object(const std::string& id) const;

@@ -170,12 +170,21 @@ void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2
 
 // Projected Gauss-Seidel over an island's rows, warm-started from `lambda`; friction
 // rows (two per frictional contact) are bounded by mu times their normal impulse.
+// Friction impulses along the two tangents of each row, warm-started and returned.
+struct FrictionImpulses {
+  std::vector<double> f1, f2;
+};
+
 int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& u,
                            const std::vector<ContactRow>& rows, const std::vector<int>& island, Eigen::VectorXd& lambda,
-                           int sweeps, bool normals_fixed) {
+                           int sweeps, bool normals_fixed, FrictionImpulses& friction) {
   const int n = static_cast<int>(island.size());
   std::vector<JacobianRow> J(n), T1(n), T2(n);
-  std::vector<double> d(n), d1(n), d2(n), f1(n, 0.0), f2(n, 0.0);
+  std::vector<double> d(n), d1(n), d2(n);
+  std::vector<double>& f1 = friction.f1;
+  std::vector<double>& f2 = friction.f2;
+  f1.resize(n, 0.0);
+  f2.resize(n, 0.0);
   for (int k = 0; k < n; ++k) {
     const ContactRow& row = rows[island[k]];
     J[k] = jacobian(row, row.normal_W, inertia);
@@ -232,35 +241,58 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
     bool frictional = false;
     for (int r : island) frictional |= rows[r].friction > 0;
+    FrictionImpulses friction;
     if (options.kind == ContactSolverKind::kExact) {
       std::vector<JacobianRow> J(n);
       for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
       Eigen::MatrixXd A(n, n);
-      Eigen::VectorXd q(n);
-      for (int i = 0; i < n; ++i) {
-        const ContactRow& ri = rows[island[i]];
-        q[i] = apply(J[i], ri, velocities) + ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
-        for (int j = i; j < n; ++j) A(i, j) = A(j, i) = delassus(J[i], ri, J[j], rows[island[j]], inertia);
-      }
-      DualSolution dual = solve_dual_exact(A, q);
-      if (!dual.converged) {
-        // Contradictory demands: keep only "do not approach" (never push apart).
-        result.infeasible = true;
+      for (int i = 0; i < n; ++i)
+        for (int j = i; j < n; ++j) A(i, j) = A(j, i) = delassus(J[i], rows[island[i]], J[j], rows[island[j]], inertia);
+      const std::vector<BodyVelocity> unconstrained = velocities;
+      // Without friction one exact solve. With it, staggered: exact normals for the
+      // current friction impulses, then friction sweeps with those normals held, three
+      // times, ending on an exact normal solve so the constraints hold exactly.
+      const int rounds = frictional ? 3 : 1;
+      for (int round = 0; round < rounds; ++round) {
+        if (round > 0) {
+          velocities = unconstrained;
+          // Apply the friction impulses found so far.
+          for (int k = 0; k < n; ++k) {
+            const ContactRow& row = rows[island[k]];
+            if (row.friction <= 0) continue;
+            Eigen::Vector3d t1, t2;
+            tangents(row.normal_W, t1, t2);
+            add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
+            add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
+          }
+        }
+        Eigen::VectorXd q(n);
         for (int i = 0; i < n; ++i) {
           const ContactRow& ri = rows[island[i]];
-          q[i] = apply(J[i], ri, velocities) + std::min(0.0, ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s);
+          q[i] = apply(J[i], ri, velocities) + ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
         }
-        dual = solve_dual_exact(A, q);
-        if (!dual.converged) dual.lambda.setZero();  // give up on this island rather than launch it
+        DualSolution dual = solve_dual_exact(A, q);
+        if (!dual.converged) {
+          // Contradictory demands: keep only "do not approach" (never push apart).
+          result.infeasible = true;
+          for (int i = 0; i < n; ++i) {
+            const ContactRow& ri = rows[island[i]];
+            q[i] = apply(J[i], ri, velocities) + std::min(0.0, ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s);
+          }
+          dual = solve_dual_exact(A, q);
+          if (!dual.converged) dual.lambda.setZero();  // give up on this island rather than launch it
+        }
+        lambda = dual.lambda;
+        result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
+        result.iterations += dual.iterations;
+        for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
+        if (round + 1 < rounds)
+          result.iterations +=
+              projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, true, friction);
       }
-      lambda = dual.lambda;
-      result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
-      result.iterations += dual.iterations;
-      for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
-      if (frictional)
-        result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false);
     } else {
-      result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false);
+      result.iterations +=
+          projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false, friction);
       // Report how far the iterative answer is from the KKT conditions.
       for (int k = 0; k < n; ++k) {
         const ContactRow& row = rows[island[k]];

@@ -70,13 +70,21 @@ int World::find(const std::string& id) const {
   return -1;
 }
 
-void World::set_kinematic_state(double t_s) {
+void World::set_kinematic_state(double t_s, double h_s) {
   for (RigidBody& body : bodies_) {
     if (body.motion != BodyMotion::kKinematic || body.trajectory.empty()) continue;
     body.X_WB = body.trajectory.pose_at(t_s);
-    const Twist twist = body.trajectory.twist_at(t_s);
-    body.w_W_rad_s = twist.w_W_rad_s;
-    body.v_WC_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
+    if (h_s > 0) {
+      // The constant twist that takes it where the trajectory says it is after h (a
+      // step can straddle two tracked poses: the instantaneous twist would be wrong).
+      const geometry::ScrewMotion screw(body.X_WB, body.trajectory.pose_at(t_s + h_s));
+      body.w_W_rad_s = screw.angular_velocity() / h_s;
+      body.v_WC_m_s = screw.velocity_of_point(body.com_W()) / h_s;
+    } else {
+      const Twist twist = body.trajectory.twist_at(t_s);
+      body.w_W_rad_s = twist.w_W_rad_s;
+      body.v_WC_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
+    }
   }
 }
 
@@ -218,7 +226,7 @@ StepReport World::step(double dt_s) {
     if (bodies_[i].is_dynamic()) unknown[i] = static_cast<int>(k++);
   while (dt_s - elapsed > 1e-12 * dt_s) {
     double h = dt_s - elapsed;
-    set_kinematic_state(time_s_ + elapsed);
+    set_kinematic_state(time_s_ + elapsed, h);
     // Solve, move, and let the CCD say whether anything meets inside the step. Pairs
     // that do join the constraints with every feature they can reach, and the step is
     // solved again: the impact is then a constraint of this step (its bounce a velocity
@@ -264,7 +272,7 @@ StepReport World::step(double dt_s) {
     if (report.events_capped) break;
   }
   time_s_ = end;
-  set_kinematic_state(time_s_);
+  set_kinematic_state(time_s_, 0.0);
   return report;
 }
 

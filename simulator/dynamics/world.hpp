@@ -91,7 +91,9 @@ class World {
   // Earliest time of impact (fraction of h) of the motions from the current poses to
   // `next`, or 1.
   double earliest_impact(const std::vector<geometry::Pose>& next, std::vector<std::pair<int, int>>* meeting) const;
-  void set_kinematic_state(double t_s);
+  // Kinematic bodies to their trajectory pose at t_s, moving as they will over the
+  // next h_s (h_s = 0: their instantaneous twist).
+  void set_kinematic_state(double t_s, double h_s);
 
   WorldOptions options_;
   std::vector<RigidBody> bodies_;

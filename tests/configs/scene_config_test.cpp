@@ -157,6 +157,36 @@ TEST_F(BadScene, DuplicateObjectId) {
   EXPECT_NE(message.find("duplicate object id 'table'"), std::string::npos) << message;
 }
 
+TEST_F(BadScene, TrajectoryTimesMustIncrease) {
+  const std::string error = load_error(
+      "  - id: pusher\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.2, 0.2, 0.2]}\n"
+      "    trajectory:\n"
+      "      - {t_s: 0.0, pose: {position_m: [0, 0, 0.1], orientation_wxyz: [1, 0, 0, 0]}}\n"
+      "      - {t_s: 0.0, pose: {position_m: [1, 0, 0.1], orientation_wxyz: [1, 0, 0, 0]}}\n");
+  EXPECT_NE(error.find("objects[1].trajectory[1].t_s"), std::string::npos) << error;
+  EXPECT_NE(error.find("expected a time after the previous one"), std::string::npos) << error;
+}
+
+TEST_F(BadScene, VelocityOnlyForDynamicAndTrajectoryOnlyForKinematic) {
+  std::string error = load_error(
+      "  - id: pusher\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.2, 0.2, 0.2]}\n"
+      "    velocity_m_s: [1, 0, 0]\n");
+  EXPECT_NE(error.find("objects[1].velocity_m_s"), std::string::npos) << error;
+  error = load_error(
+      "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n"
+      "    trajectory: [{t_s: 0, pose: {position_m: [0, 0, 0.1], orientation_wxyz: [1, 0, 0, 0]}}]\n");
+  EXPECT_NE(error.find("only a kinematic object follows a trajectory"), std::string::npos) << error;
+}
+
+TEST_F(BadScene, SolverAndTrackingPolicyAreChecked) {
+  const std::string ball = "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n";
+  std::string error = load_error(ball, "physics: {solver: lcp}\n");
+  EXPECT_NE(error.find("physics.solver"), std::string::npos) << error;
+  EXPECT_NE(error.find("expected 'exact' or 'iterative'"), std::string::npos) << error;
+  error = load_error(ball, "physics: {tracking_policy: guess}\n");
+  EXPECT_NE(error.find("expected 'delay' or 'extrapolate'"), std::string::npos) << error;
+}
+
 TEST(SceneConfigFile, MissingAndMalformedFiles) {
   EXPECT_THROW(load_scene("/no/such/scene.yaml"), ConfigError);
   const std::string path = ::testing::TempDir() + "malformed.yaml";

@@ -16,6 +16,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
+#include "simulator/dynamics/scene_world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 
@@ -44,24 +45,6 @@ std::string describe_shape(const config::ShapeConfig& shape) {
     }
   }
   return "?";
-}
-
-geometry::MassProperties mass_properties(const config::ObjectConfig& object) {
-  constexpr double kDefaultDensity = 1000.0;  // water, when the scene gives neither mass nor density
-  const double density = object.density_kg_m3.value_or(kDefaultDensity);
-  geometry::MassProperties props;
-  switch (object.collision.type) {
-    case config::ShapeType::kBox: props = geometry::box_mass_properties(object.collision.size_m, density); break;
-    case config::ShapeType::kSphere: props = geometry::sphere_mass_properties(object.collision.radius_m, density); break;
-    case config::ShapeType::kMesh: {
-      auto mesh = geometry::load_mesh(object.collision.mesh_path, object.collision.scale);
-      geometry::cap_boundary_loops(mesh);
-      props = geometry::mesh_mass_properties(mesh, density);
-      break;
-    }
-    case config::ShapeType::kPlane: throw std::invalid_argument(object.id + ": a plane has no mass");
-  }
-  return object.mass_kg ? geometry::with_mass(props, *object.mass_kg) : props;
 }
 
 arphys::world_state_t initial_world_state(const config::SceneConfig& scene) {
@@ -135,11 +118,15 @@ int main(int argc, char** argv) {
 
   try {
     const config::SceneConfig scene = config::load_scene(scene_path);
-    const config::CameraConfig camera = config::load_camera(scene.camera_file);
     std::printf("scene %s  (%s)\n", scene.name.c_str(), scene.file.c_str());
-    std::printf("camera %s: %dx%d px, fx=%.1f fy=%.1f cx=%.1f cy=%.1f px, %s\n", camera.camera_id.c_str(),
-                camera.width_px, camera.height_px, camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px,
-                camera.has_distortion() ? "distorted" : "no distortion");
+    if (scene.camera_file.empty()) {
+      std::printf("camera: none (a headless physics scene)\n");
+    } else {
+      const config::CameraConfig camera = config::load_camera(scene.camera_file);
+      std::printf("camera %s: %dx%d px, fx=%.1f fy=%.1f cx=%.1f cy=%.1f px, %s\n", camera.camera_id.c_str(),
+                  camera.width_px, camera.height_px, camera.fx_px, camera.fy_px, camera.cx_px, camera.cy_px,
+                  camera.has_distortion() ? "distorted" : "no distortion");
+    }
     std::printf("gravity (%.2f, %.2f, %.2f) m/s^2, time step %.4f s\n", scene.gravity_m_s2.x(), scene.gravity_m_s2.y(),
                 scene.gravity_m_s2.z(), scene.time_step_s);
     for (const auto& object : scene.objects) {
@@ -149,7 +136,7 @@ int main(int argc, char** argv) {
         std::printf("    render:    %s\n", describe_shape(object.render).c_str());
       }
       if (object.motion == config::Motion::kDynamic) {
-        const auto props = mass_properties(object);
+        const auto props = dynamics::mass_properties_of(object);
         const Eigen::Vector3d principal =
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(props.inertia_about_com_kg_m2).eigenvalues();
         std::printf("    mass %.4f kg, volume %.4g m^3, centre of mass (%.4f, %.4f, %.4f) m, principal inertia "

@@ -1,0 +1,104 @@
+// simulate SCENE --duration S [--dt S] --csv OUT: runs a scene headless, without LCM,
+// and writes one CSV row per body per step:
+//   t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz
+// (SI units, world frame; p and v of the body frame's origin). Kinematic bodies follow
+// their scripted trajectories. A summary (timing, events, penetration) goes to stderr.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "configs/loader/config_error.hpp"
+#include "configs/loader/scene_config.hpp"
+#include "simulator/dynamics/scene_world.hpp"
+
+namespace {
+
+using namespace arphys;
+
+void write_rows(std::ostream& out, const dynamics::World& world) {
+  char row[512];
+  for (const dynamics::RigidBody& body : world.bodies()) {
+    const Eigen::Vector3d p = body.X_WB.translation();
+    const Eigen::Quaterniond q(body.X_WB.linear());
+    const Eigen::Vector3d v = body.origin_velocity();
+    const Eigen::Vector3d& w = body.w_W_rad_s;
+    std::snprintf(row, sizeof row, "%.6f,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                  world.time_s(), body.id.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(),
+                  w.x(), w.y(), w.z());
+    out << row;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Run an arphys scene headless (no LCM) and write every body's state per step as CSV:\n"
+               "t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz (SI units, world frame, body origin)."};
+  std::string scene_path, csv_path;
+  double duration_s = 0, dt_s = 0;
+  std::string solver;
+  app.add_option("SCENE", scene_path, "scene YAML file")->required()->check(CLI::ExistingFile);
+  app.add_option("--duration", duration_s, "simulated time, seconds")->required()->check(CLI::PositiveNumber);
+  app.add_option("--dt", dt_s, "time step, seconds (default: the scene's physics.time_step_s)")->check(CLI::PositiveNumber);
+  app.add_option("--csv", csv_path, "output CSV file ('-' for standard output)")->required();
+  app.add_option("--solver", solver, "override the scene's contact solver")->check(CLI::IsMember({"exact", "iterative"}));
+  CLI11_PARSE(app, argc, argv);
+
+  config::SceneConfig scene;
+  try {
+    scene = config::load_scene(scene_path);
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "simulate: %s\n", e.what());
+    return 2;
+  }
+  if (!solver.empty()) scene.solver = solver;
+  if (dt_s == 0) dt_s = scene.time_step_s;
+  dynamics::World world;
+  try {
+    world = dynamics::build_world(scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "simulate: %s: %s\n", scene_path.c_str(), e.what());
+    return 2;
+  }
+  std::ofstream file;
+  if (csv_path != "-") {
+    file.open(csv_path);
+    if (!file) {
+      std::fprintf(stderr, "simulate: cannot write %s\n", csv_path.c_str());
+      return 2;
+    }
+  }
+  std::ostream& out = csv_path == "-" ? std::cout : file;
+  out << "t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz\n";
+  write_rows(out, world);
+
+  const long steps = std::lround(duration_s / dt_s);
+  long events = 0, capped = 0, infeasible = 0;
+  double deepest = 0, worst_kkt = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto last_progress = start;
+  for (long k = 0; k < steps; ++k) {
+    const dynamics::StepReport report = world.step(dt_s);
+    events += report.events;
+    capped += report.events_capped;
+    infeasible += report.infeasible;
+    deepest = std::max(deepest, report.max_penetration_m);
+    worst_kkt = std::max(worst_kkt, report.kkt_residual_m_s);
+    write_rows(out, world);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_progress > std::chrono::seconds(2)) {
+      std::fprintf(stderr, "\r[simulate] %s: t = %.3f / %.3f s", scene.name.c_str(), world.time_s(), duration_s);
+      last_progress = now;
+    }
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::fprintf(stderr,
+               "\r[simulate] %s: %ld steps of %.4g s, %zu bodies; %.3f ms per step (real-time factor %.2f); %ld impacts, "
+               "%ld capped steps, %ld squeezed steps; deepest overlap %.3g m; worst KKT residual %.3g m/s\n",
+               scene.name.c_str(), steps, dt_s, world.bodies().size(), 1e3 * wall_s / std::max(1L, steps),
+               duration_s / std::max(wall_s, 1e-9), events, capped, infeasible, deepest, worst_kkt);
+  return 0;
+}
