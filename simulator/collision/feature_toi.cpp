@@ -39,11 +39,13 @@ IVec3 hull(const IVec3& a, const IVec3& b) {
 struct FixedTriangle {
   Eigen::Vector3d corner[3], edge[3], normal, inward[3], lo, hi;
   double edge_length[3];
+  double size = 0;  // longest edge
 
   explicit FixedTriangle(const Eigen::Vector3d c[3]) {
     for (int i = 0; i < 3; ++i) corner[i] = c[i];
     for (int i = 0; i < 3; ++i) edge[i] = corner[(i + 1) % 3] - corner[i];
     for (int i = 0; i < 3; ++i) edge_length[i] = edge[i].norm();
+    size = std::max({edge_length[0], edge_length[1], edge_length[2]});
     normal = edge[0].cross(corner[2] - corner[0]);
     for (int i = 0; i < 3; ++i) inward[i] = normal.cross(edge[i]);
     lo = corner[0].cwiseMin(corner[1]).cwiseMin(corner[2]);
@@ -67,6 +69,16 @@ struct FixedTriangle {
   // Can the moving point be on this triangle during its interval? P is its box.
   bool may_touch(const MovingPoint& p, const IVec3& P) const {
     if (boxes_disjoint(P, lo, hi)) return false;
+    // A vertex sliding within the face's plane (two coplanar faces, a box pressed
+    // onto another) has a coplanarity function that is zero at every time: its
+    // contact with the face is at the face's boundary, found by the edge/edge pairs
+    // and by the neighbouring face's vertex/face pair. Bisecting it would go on to the
+    // limit of the tolerance everywhere the vertex is over the face's boundary.
+    const double normal_norm = normal.norm();
+    if (std::abs(normal.dot(p.velocity)) <= 1e-9 * normal_norm * p.velocity.norm() &&
+        p.velocity_rad <= 1e-9 * p.velocity.norm() &&
+        std::abs(normal.dot(p.mid - corner[0])) <= 1e-9 * normal_norm * size)
+      return false;
     if (!p.project(normal, normal.dot(corner[0])).contains_zero()) return false;
     for (int i = 0; i < 3; ++i)
       if (p.project(inward[i], inward[i].dot(corner[i])).hi < 0) return false;
@@ -84,19 +96,24 @@ struct Leaf {
 class TrianglePairSearch {
  public:
   TrianglePairSearch(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
-                     const Eigen::Vector3d b[3])
+                     const Eigen::Vector3d b[3], const Interval& window)
       : rel_AB_(rel_AB), rel_BA_(rel_BA), A_(a), B_(b) {
-    double scale = 0;
-    for (int k = 0; k < 3; ++k) scale = std::max({scale, a[k].lpNorm<Eigen::Infinity>(), b[k].lpNorm<Eigen::Infinity>()});
-    touch_distance_ = 1e-12 * (scale + 1e-300);
+    // Below the enclosures' own rounding allowance they cannot tell touching triangles
+    // from triangles a hair apart: that distance (ten times over) counts as touching.
+    const RelativeMotion::Snapshot s_AB = rel_AB.snapshot(window), s_BA = rel_BA.snapshot(window);
+    double fuzz = 0;
+    for (int k = 0; k < 3; ++k)
+      fuzz = std::max({fuzz, rel_AB.moving_point(b[k], s_AB).rounding, rel_BA.moving_point(a[k], s_BA).rounding});
+    touch_distance_ = 10 * fuzz + 1e-300;
   }
 
   // Earliest leaf in T (depth first, earliest half first), or none (alive == 0).
   Leaf search(const Interval& T, uint32_t alive, double tolerance) const {
     const RelativeMotion::Snapshot snapshot_AB = rel_AB_.snapshot(T);
     IVec3 PB[3];  // boxes of B's corners in A's frame
+    MovingPoint MB[3];
     for (int k = 0; k < 3; ++k) {
-      const MovingPoint p = rel_AB_.moving_point(B_.corner[k], snapshot_AB);
+      const MovingPoint& p = MB[k] = rel_AB_.moving_point(B_.corner[k], snapshot_AB);
       PB[k] = p.ball().to_interval();
       if ((alive >> k & 1) && !A_.may_touch(p, PB[k])) alive &= ~(1u << k);
     }
@@ -113,7 +130,9 @@ class TrianglePairSearch {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
           const int bit = 6 + 3 * i + j;
-          if ((alive >> bit & 1) && !edges_may_touch(i, j, PB[j], PB[(j + 1) % 3], R_AB * B_.edge[j]))
+          if (!(alive >> bit & 1)) continue;
+          if (coplanar_sliding(i, snapshot_AB.R_AB.mid * B_.edge[j], MB[j], MB[(j + 1) % 3]) ||
+              !edges_may_touch(i, j, PB[j], PB[(j + 1) % 3], R_AB * B_.edge[j]))
             alive &= ~(1u << bit);
         }
     }
@@ -198,6 +217,25 @@ class TrianglePairSearch {
   static int first_bit(uint32_t alive) { return __builtin_ctz(alive); }
 
  private:
+  // Edge j of B moving within the plane of edge i of A (both edges in one plane, the
+  // motion along it): the coplanarity function is zero at every time, and the edges
+  // can only first meet at an end of one of them, a vertex/face contact of a
+  // neighbouring face.
+  bool coplanar_sliding(int i, const Eigen::Vector3d& eb, const MovingPoint& q0, const MovingPoint& q1) const {
+    Eigen::Vector3d n = A_.edge[i].cross(eb);
+    const double norm = n.norm();
+    if (!(norm > 1e-12 * A_.edge_length[i] * eb.norm())) return false;  // parallel: handled elsewhere
+    n /= norm;
+    const double size = A_.edge_length[i] + eb.norm();
+    for (const MovingPoint* q : {&q0, &q1}) {
+      const double speed = q->velocity.norm();
+      if (std::abs(n.dot(q->mid - A_.corner[i])) > 1e-9 * size || std::abs(n.dot(q->velocity)) > 1e-9 * speed ||
+          q->velocity_rad > 1e-9 * speed)
+        return false;
+    }
+    return true;
+  }
+
   // Edge i of A (fixed) against the moving edge j of B, Q0 Q1, with direction enclosure eb.
   bool edges_may_touch(int i, int j, const IVec3& Q0, const IVec3& Q1, const IVec3& eb) const {
     const Eigen::Vector3d& p0 = A_.corner[i];
@@ -271,7 +309,7 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
                                  const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
   if (!(window.lo <= window.hi)) return {};
-  const TrianglePairSearch search(rel_AB, rel_BA, a, b);
+  const TrianglePairSearch search(rel_AB, rel_BA, a, b, window);
   return resolve(search, window, time_tolerance, 2);
 }
 

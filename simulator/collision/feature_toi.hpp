@@ -13,16 +13,21 @@
 //
 // A leaf is accepted only when a pair's coplanarity function changes sign across it
 // (exact end-point evaluations) with its in-face / in-edge condition holding where it
-// does, or when the triangles touch at its start. A leaf the enclosures could not
+// does, or when the triangles touch at its start (are closer than ten times the
+// enclosures' rounding allowance, about 1e-11 times the coordinates' magnitude; a
+// pair that stays that close, two boxes pressed face to face, is a contact whatever
+// its time tolerance says). A leaf the enclosures could not
 // rule out but that holds no verified contact (the triangles graze past within about
 // the motion over a leaf) is searched again at a 1024 times finer tolerance, twice
 // over; below that the search resumes d / (closing speed) later, d the triangles'
 // distance: a proven contact-free step.
 //
 // Contract: the returned time is never later than the first contact of the two
-// triangles, and at most `time_tolerance` earlier (except when 100 such steps leave
-// it unresolved: then the proven contact-free prefix's end is returned). No contact is
-// missed.
+// triangles, and at most `time_tolerance` earlier, unless the triangles were already
+// touching in the sense above, or 100 such steps left it unresolved (then the proven
+// contact-free prefix's end is returned). No contact is missed. A vertex sliding in a
+// face's plane, and an edge sliding in the plane of another, are left to the
+// neighbouring features that they reach first (their coplanarity is zero throughout).
 #include <cstdint>
 #include <limits>
 

@@ -1,0 +1,110 @@
+// Defined behaviour on bad input and hard cases: never a crash, never NaN, never a launch.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "simulator/dynamics/world.hpp"
+
+namespace arphys::dynamics {
+namespace {
+
+using geometry::Pose;
+
+RigidBody plane_body() {
+  RigidBody b;
+  b.id = "floor";
+  b.motion = BodyMotion::kStatic;
+  b.shape = collision::Shape::plane();
+  return b;
+}
+
+RigidBody cube(const std::string& id, const Eigen::Vector3d& p, double side = 0.2) {
+  RigidBody b;
+  b.id = id;
+  b.shape = collision::Shape::box(Eigen::Vector3d::Constant(side));
+  b.mass = geometry::with_mass(geometry::box_mass_properties(Eigen::Vector3d::Constant(side), 1000), 1.0);
+  b.X_WB = geometry::translation_pose(p);
+  return b;
+}
+
+TEST(WorldRobustness, BadBodiesAreRejectedByName) {
+  World world;
+  RigidBody nan_pose = cube("nan-box", {0, 0, 1});
+  nan_pose.X_WB.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  try {
+    world.add_body(nan_pose);
+    FAIL() << "expected std::invalid_argument";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("nan-box"), std::string::npos) << e.what();
+  }
+  RigidBody massless = cube("massless", {0, 0, 1});
+  massless.mass.mass_kg = 0;
+  EXPECT_THROW(world.add_body(massless), std::invalid_argument);
+  world.add_body(cube("a", {0, 0, 1}));
+  EXPECT_THROW(world.add_body(cube("a", {1, 0, 1})), std::invalid_argument);  // duplicate id
+  EXPECT_THROW(world.step(0.0), std::invalid_argument);
+  EXPECT_THROW(world.step(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+}
+
+TEST(WorldRobustness, RestingContactCausesNoEvents) {
+  World world;
+  world.add_body(plane_body());
+  const int b = world.add_body(cube("box", {0, 0, 0.1}));
+  int events = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const StepReport report = world.step(1e-3);
+    events += report.events;
+    ASSERT_FALSE(report.events_capped);
+  }
+  EXPECT_EQ(events, 0);
+  EXPECT_NEAR(world.bodies()[b].X_WB.translation().z(), 0.1 + world.options().contact_gap_m, 1e-12);
+}
+
+// A tracked box comes down onto a dynamic box lying on a static floor: the box is
+// squeezed. The solve is reported infeasible and the box is neither launched nor NaN.
+TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
+  World world;
+  world.add_body(plane_body());
+  RigidBody press = cube("press", {0, 0, 0.3 + 1e-3}, 0.2);
+  press.motion = BodyMotion::kKinematic;
+  press.trajectory.add(0.0, geometry::translation_pose({0, 0, 0.3 + 1e-3}));
+  press.trajectory.add(0.2, geometry::translation_pose({0, 0, 0.25}));  // 5 cm into the box
+  world.add_body(press);
+  const int b = world.add_body(cube("box", {0, 0, 0.1}));
+  bool infeasible = false;
+  for (int k = 0; k < 300; ++k) {
+    const StepReport report = world.step(1e-3);
+    infeasible |= report.infeasible;
+    const RigidBody& body = world.bodies()[b];
+    ASSERT_TRUE(body.X_WB.matrix().allFinite()) << "step " << k;
+    ASSERT_TRUE(body.v_WC_m_s.allFinite() && body.w_W_rad_s.allFinite()) << "step " << k;
+    ASSERT_LE(body.v_WC_m_s.norm(), 1.0) << "launched at step " << k;
+  }
+  EXPECT_TRUE(infeasible);
+}
+
+TEST(WorldRobustness, EventsPerStepAreCapped) {
+  WorldOptions options;
+  options.max_events_per_step = 2;
+  World world(options);
+  world.add_body(plane_body());
+  // Ten boxes falling onto the floor at once, turning: impacts in the same step.
+  for (int i = 0; i < 10; ++i) {
+    RigidBody b = cube("box" + std::to_string(i), {0.5 * i, 0, 0.3 + 0.01 * i});
+    b.w_W_rad_s = Eigen::Vector3d(3, 1, 0);
+    b.v_WC_m_s = Eigen::Vector3d(0, 0, -3);
+    world.add_body(b);
+  }
+  for (int k = 0; k < 300; ++k) {
+    const StepReport report = world.step(1e-2);
+    ASSERT_LE(report.events, options.max_events_per_step);
+    ASSERT_LE(report.max_penetration_m, 1e-3) << "step " << k;
+  }
+  for (const RigidBody& body : world.bodies()) {
+    if (body.is_dynamic()) EXPECT_GT(body.X_WB.translation().z(), 0.09) << body.id;  // all above the floor
+  }
+}
+
+}  // namespace
+}  // namespace arphys::dynamics
