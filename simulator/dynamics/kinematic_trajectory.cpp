@@ -30,6 +30,13 @@ int KinematicTrajectory::segment(double t_s) const {
   return static_cast<int>(it - poses_.begin()) - 1;
 }
 
+void KinematicTrajectory::hold_from(double t_s) {
+  if (poses_.empty()) return;
+  const geometry::Pose X = pose_at(t_s);
+  while (!poses_.empty() && poses_.back().t_s > t_s) poses_.pop_back();
+  if (poses_.empty() || poses_.back().t_s < t_s) poses_.push_back({t_s, X});
+}
+
 geometry::Pose KinematicTrajectory::pose_at(double t_s) const {
   if (poses_.empty()) return geometry::Pose::Identity();
   const int i = segment(t_s);

@@ -34,6 +34,8 @@ class KinematicTrajectory {
   const std::vector<TimedPose>& poses() const { return poses_; }
   // Drops poses older than t_s except the one in effect at t_s (for long live runs).
   void forget_before(double t_s);
+  // Replaces everything after t_s by the pose the body has at t_s: it stops there.
+  void hold_from(double t_s);
 
   geometry::Pose pose_at(double t_s) const;
   // The twist in effect at t_s (of the segment containing it; zero outside).

@@ -17,6 +17,8 @@ const char* to_string(BodyMotion motion);
 
 struct RigidBody {
   std::string id;
+  std::string model;  // the scene object it comes from (spawned instances share it)
+  bool real = false;  // a real object (tracked or fixed), as opposed to a virtual one
   BodyMotion motion = BodyMotion::kDynamic;
   collision::Shape shape = collision::Shape::plane();
   // Dynamic bodies: mass > 0; centre of mass and inertia about it in the body frame.

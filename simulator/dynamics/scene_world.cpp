@@ -71,6 +71,8 @@ RigidBody make_instance(const config::ObjectConfig& object, const std::string& i
                         const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_W_rad_s) {
   RigidBody body;
   body.id = id;
+  body.model = object.id;
+  body.real = object.role == config::Role::kReal;
   body.motion = BodyMotion::kDynamic;
   body.shape = shape_of(object.collision);
   body.mass = mass_properties_of(object);
@@ -99,6 +101,8 @@ World build_world(const config::SceneConfig& scene) {
     }
     RigidBody body;
     body.id = object.id;
+    body.model = object.id;
+    body.real = object.role == config::Role::kReal;
     body.motion = motion_of(object.motion);
     body.shape = shape_of(object.collision);
     body.restitution = object.restitution;

@@ -64,6 +64,12 @@ int World::add_body(RigidBody body) {
   return static_cast<int>(bodies_.size()) - 1;
 }
 
+void World::remove_body(int index) {
+  bodies_.erase(bodies_.begin() + index);
+  radius_m_.erase(radius_m_.begin() + index);
+  contacts_.clear();
+}
+
 int World::find(const std::string& id) const {
   for (int i = 0; i < static_cast<int>(bodies_.size()); ++i)
     if (bodies_[i].id == id) return i;

@@ -73,6 +73,8 @@ class World {
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   RigidBody& body(int index) { return bodies_.at(index); }
   int find(const std::string& id) const;  // -1 when absent
+  // Removes a body (indices after it shift down by one).
+  void remove_body(int index);
   const std::vector<Contact>& contacts() const { return contacts_; }
   const WorldOptions& options() const { return options_; }
   WorldOptions& options() { return options_; }

@@ -102,7 +102,9 @@ TEST(WorldRobustness, EventsPerStepAreCapped) {
     ASSERT_LE(report.max_penetration_m, 1e-3) << "step " << k;
   }
   for (const RigidBody& body : world.bodies()) {
-    if (body.is_dynamic()) EXPECT_GT(body.X_WB.translation().z(), 0.09) << body.id;  // all above the floor
+    if (body.is_dynamic()) {
+      EXPECT_GT(body.X_WB.translation().z(), 0.09) << body.id;  // all above the floor
+    }
   }
 }
 

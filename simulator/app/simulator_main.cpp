@@ -1,0 +1,227 @@
+// arphys-simulator: the simulator process. Subscribes to tracked object poses and to
+// commands, steps the world (CCD + Gauss least-constraint dynamics), publishes the
+// world state every step and a 1 Hz heartbeat. See simulator/process/simulator_core.hpp
+// for what it accepts and refuses.
+//
+// Clock: "messages" (default) steps up to the capture time of the newest tracking
+// frame, so a replayed log (lcm-logplayer) gives the same world states on every run;
+// "wall" steps with the wall clock (a scene without tracking, or a live demo).
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+
+#include "arphys/object_poses_t.hpp"
+#include "arphys/process_status_t.hpp"
+#include "arphys/sim_command_t.hpp"
+#include "arphys/world_state_t.hpp"
+#include "configs/loader/config_error.hpp"
+#include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/pose_conversions.hpp"
+#include "simulator/process/simulator_core.hpp"
+
+namespace {
+
+using namespace arphys;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+sim::TrackingFrame to_frame(const arphys::object_poses_t& msg) {
+  sim::TrackingFrame frame;
+  frame.capture_utime = msg.utime;
+  frame.seq = msg.seq;
+  for (const auto& o : msg.objects) {
+    sim::TrackedObject object;
+    object.object_id = o.object_id;
+    object.lost = o.status == arphys::object_pose_t::STATUS_LOST;
+    object.world_valid = o.world_valid;
+    if (object.world_valid && !object.lost) {
+      const std::string problem = msg::pose_problem(o.X_WO);
+      if (!problem.empty()) throw std::invalid_argument("object '" + o.object_id + "': " + problem);
+      object.X_WO = msg::from_message(o.X_WO, o.object_id);
+    }
+    frame.objects.push_back(object);
+  }
+  return frame;
+}
+
+sim::SpawnRequest to_request(const arphys::sim_command_t& msg) {
+  sim::SpawnRequest r;
+  r.sender = msg.sender;
+  r.seq = msg.seq;
+  switch (msg.command) {
+    case arphys::sim_command_t::COMMAND_SPAWN: r.kind = sim::SpawnRequest::Kind::kSpawn; break;
+    case arphys::sim_command_t::COMMAND_REMOVE: r.kind = sim::SpawnRequest::Kind::kRemove; break;
+    case arphys::sim_command_t::COMMAND_RESET: r.kind = sim::SpawnRequest::Kind::kReset; break;
+    case arphys::sim_command_t::COMMAND_PAUSE: r.kind = sim::SpawnRequest::Kind::kPause; break;
+    case arphys::sim_command_t::COMMAND_RESUME: r.kind = sim::SpawnRequest::Kind::kResume; break;
+    default: throw std::invalid_argument("unknown command " + std::to_string(msg.command));
+  }
+  r.model = msg.model;
+  r.body_id = msg.body_id;
+  if (r.kind == sim::SpawnRequest::Kind::kSpawn) {
+    r.X_WB = msg::from_message(msg.X_WB, "spawn pose");
+    r.v_WB_m_s = msg::from_array(msg.v_WB_m_s);
+    r.w_WB_rad_s = msg::from_array(msg.w_WB_rad_s);
+  }
+  return r;
+}
+
+arphys::world_state_t world_state(const sim::SimulatorCore& core, int64_t step_start, int64_t step_end) {
+  arphys::world_state_t ws{};
+  ws.utime = core.newest_capture_utime();
+  ws.seq = core.newest_seq();
+  ws.sim_time_s = core.sim_time_s();
+  ws.scene_name = core.scene().name;
+  ws.step_start_utime = step_start;
+  ws.step_end_utime = step_end;
+  for (const auto& body : core.world().bodies()) {
+    arphys::body_state_t b{};
+    b.body_id = body.id;
+    b.model = body.model;
+    b.role = body.real ? arphys::body_state_t::ROLE_REAL : arphys::body_state_t::ROLE_VIRTUAL;
+    b.motion = static_cast<int8_t>(body.motion);
+    b.X_WB = msg::to_message(body.X_WB);
+    msg::to_array(body.origin_velocity(), b.v_WB_m_s);
+    msg::to_array(body.w_W_rad_s, b.w_WB_rad_s);
+    ws.bodies.push_back(b);
+  }
+  ws.num_bodies = static_cast<int32_t>(ws.bodies.size());
+  const auto& bodies = core.world().bodies();
+  for (const auto& c : core.world().contacts()) {
+    arphys::contact_t contact{};
+    contact.body_a = bodies[c.body_a].id;
+    contact.body_b = bodies[c.body_b].id;
+    msg::to_array(0.5 * (c.feature.point_A_W + c.feature.point_B_W), contact.p_W_m);
+    msg::to_array(c.feature.normal_W, contact.n_W);
+    contact.time_of_impact_s = core.sim_time_s();
+    contact.impulse_n_s = c.impulse_N_s;
+    contact.separation_m = c.feature.distance_m;
+    ws.contacts.push_back(contact);
+  }
+  for (const auto& c : core.proxy_contacts()) {
+    arphys::contact_t contact{};
+    contact.body_a = c.body_a;
+    contact.body_b = c.body_b;
+    msg::to_array(c.point_W, contact.p_W_m);
+    msg::to_array(c.normal_W, contact.n_W);
+    contact.time_of_impact_s = c.time_of_impact_s;
+    ws.contacts.push_back(contact);
+  }
+  ws.num_contacts = static_cast<int32_t>(ws.contacts.size());
+  return ws;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"arphys simulator process: tracked poses and commands in (LCM), world state out.\n"
+               "Steps continuous collision detection and Gauss least-constraint dynamics."};
+  std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
+  std::string url, clock = "messages", policy;
+  double duration_s = 0;
+  app.add_option("scene", scene_path, "scene YAML file")->capture_default_str();
+  app.add_option("--lcm-url", url, "LCM URL (default: the scene's lcm.url)");
+  app.add_option("--clock", clock, "messages: step to the newest tracking capture time (replay-deterministic); "
+                                   "wall: step with the wall clock")
+      ->check(CLI::IsMember({"messages", "wall"}))
+      ->capture_default_str();
+  app.add_option("--tracking-policy", policy, "override the scene's physics.tracking_policy")
+      ->check(CLI::IsMember({"delay", "extrapolate"}));
+  app.add_option("--duration", duration_s, "exit after this many wall-clock seconds (0: run until SIGINT)");
+  CLI11_PARSE(app, argc, argv);
+
+  config::SceneConfig scene;
+  try {
+    scene = config::load_scene(scene_path);
+  } catch (const config::ConfigError& e) {
+    std::fprintf(stderr, "arphys-simulator: %s\n", e.what());
+    return 2;
+  }
+  sim::CoreOptions options;
+  options.policy = sim::tracking_policy_from(policy.empty() ? scene.tracking_policy : policy);
+  std::unique_ptr<sim::SimulatorCore> core;
+  std::unique_ptr<msg::Bus> bus;
+  try {
+    core = std::make_unique<sim::SimulatorCore>(scene, options);
+    bus = std::make_unique<msg::Bus>(url.empty() ? scene.lcm_url : url);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-simulator: %s\n", e.what());
+    return 2;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  bus->subscribe<arphys::object_poses_t>(scene.channels.object_poses,
+                                         [&](const arphys::object_poses_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                           core->on_tracking(to_frame(m));
+                                         });
+  bus->subscribe<arphys::sim_command_t>(scene.channels.sim_command,
+                                        [&](const arphys::sim_command_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                          core->on_command(to_request(m));
+                                        });
+
+  const auto start = std::chrono::steady_clock::now();
+  auto last_status = start;
+  int64_t published = 0, steps_since_status = 0;
+  double stage_ms_since_status = 0;
+  char host[256] = "unknown";
+  gethostname(host, sizeof host - 1);
+  std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
+               scene.name.c_str(), core->world().bodies().size(), scene.time_step_s, clock.c_str(),
+               sim::to_string(options.policy), bus->url().c_str());
+  while (!g_stop) {
+    const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (duration_s > 0 && elapsed_s > duration_s) break;
+    bus->handle_timeout_ms(static_cast<int>(std::max(1.0, 1e3 * scene.time_step_s / 2)));
+    bus->handle_pending();
+    const double target = clock == "wall" ? elapsed_s
+                                          : (core->clock_started() ? core->sim_time_of(core->newest_capture_utime()) : 0.0);
+    while (!g_stop && core->sim_time_s() + scene.time_step_s <= target + 1e-12 && !core->paused()) {
+      const int64_t step_start = msg::now_utime();
+      core->advance_to(core->sim_time_s() + scene.time_step_s);
+      const int64_t step_end = msg::now_utime();
+      arphys::world_state_t ws = world_state(*core, step_start, step_end);
+      ws.publish_utime = msg::now_utime();
+      bus->publish(scene.channels.world_state, ws);
+      ++published;
+      ++steps_since_status;
+      stage_ms_since_status += 1e-3 * static_cast<double>(step_end - step_start);
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_status >= std::chrono::seconds(1)) {
+      const double window_s = std::chrono::duration<double>(now - last_status).count();
+      arphys::process_status_t status{};
+      status.utime = msg::now_utime();
+      status.name = "simulator";
+      status.implementation = std::string("gauss-ccd/") + (scene.solver == "exact" ? "exact" : "iterative");
+      status.host = host;
+      status.pid = getpid();
+      status.uptime_s = std::chrono::duration<double>(now - start).count();
+      status.rate_hz = steps_since_status / window_s;
+      status.stage_duration_ms = steps_since_status ? stage_ms_since_status / steps_since_status : 0.0;
+      status.received = bus->counters().received;
+      status.published = published;
+      status.decode_errors = bus->counters().decode_errors;
+      status.rejected = bus->counters().rejected + core->rejected_total();
+      const auto lost = core->lost_objects();
+      status.state = core->paused() ? "paused" : (lost.empty() ? "running" : "running, lost: " + lost.front());
+      bus->publish(scene.channels.process_status, status);
+      last_status = now;
+      steps_since_status = 0;
+      stage_ms_since_status = 0;
+    }
+  }
+  std::fprintf(stderr, "arphys-simulator: %lld world states published, %lld messages received, %lld undecodable, "
+               "%lld refused (last: %s)\n",
+               static_cast<long long>(published), static_cast<long long>(bus->counters().received),
+               static_cast<long long>(bus->counters().decode_errors),
+               static_cast<long long>(bus->counters().rejected + core->rejected_total()), core->last_rejection().c_str());
+  return 0;
+}

@@ -1,0 +1,200 @@
+#include "simulator/process/simulator_core.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "simulator/collision/shape_query.hpp"
+#include "simulator/dynamics/scene_world.hpp"
+
+namespace arphys::sim {
+
+SimulatorCore::SimulatorCore(config::SceneConfig scene, CoreOptions options)
+    : scene_(std::move(scene)), options_(options), world_(dynamics::build_world(scene_)) {
+  reset();
+}
+
+void SimulatorCore::reset() {
+  world_ = dynamics::build_world(scene_);
+  drivers_.clear();
+  last_seen_s_.clear();
+  spawn_counter_.clear();
+  for (const auto& object : scene_.objects) {
+    if (object.role == config::Role::kReal && object.motion == config::Motion::kKinematic)
+      drivers_.emplace(object.id, TrackingDriver(options_.policy));
+    spawn_counter_[object.id] = static_cast<int>(object.spawn_at_start.size());
+  }
+  proxy_contacts_.clear();
+  first_capture_utime_.reset();
+}
+
+void SimulatorCore::reject(const std::string& reason) {
+  ++rejections_[reason];
+  last_rejection_ = reason;
+}
+
+int64_t SimulatorCore::rejected_total() const {
+  int64_t total = 0;
+  for (const auto& [reason, count] : rejections_) total += count;
+  return total;
+}
+
+double SimulatorCore::sim_time_of(int64_t capture_utime) const {
+  if (!first_capture_utime_) return world_.time_s();
+  return static_cast<double>(capture_utime - *first_capture_utime_) * 1e-6;
+}
+
+int SimulatorCore::on_tracking(const TrackingFrame& frame) {
+  if (newest_seq_ != 0 || newest_capture_utime_ != 0) {
+    if (frame.seq == newest_seq_ && frame.capture_utime == newest_capture_utime_) {
+      reject("duplicate tracking frame");
+      return 0;
+    }
+    if (frame.capture_utime <= newest_capture_utime_) {
+      reject("out-of-order tracking frame");
+      return 0;
+    }
+  }
+  if (!first_capture_utime_) {
+    // Simulation time now corresponds to this capture.
+    first_capture_utime_ = frame.capture_utime - static_cast<int64_t>(std::llround(world_.time_s() * 1e6));
+  }
+  newest_capture_utime_ = frame.capture_utime;
+  newest_seq_ = frame.seq;
+  const double t = sim_time_of(frame.capture_utime);
+  int used = 0;
+  for (const TrackedObject& object : frame.objects) {
+    auto driver = drivers_.find(object.object_id);
+    if (driver == drivers_.end()) {
+      reject(scene_.find_object(object.object_id) ? "object '" + object.object_id + "' is not a tracked kinematic object"
+                                                  : "unknown object '" + object.object_id + "'");
+      continue;
+    }
+    if (object.lost) {
+      driver->second.on_lost(std::max(t, world_.time_s()));
+      continue;
+    }
+    if (!object.world_valid) {
+      reject("pose of '" + object.object_id + "' not in the world frame");
+      continue;
+    }
+    if (!object.X_WO.matrix().allFinite()) {
+      reject("non-finite pose of '" + object.object_id + "'");
+      continue;
+    }
+    driver->second.on_pose(t, object.X_WO, world_.time_s());
+    last_seen_s_[object.object_id] = t;
+    ++used;
+  }
+  return used;
+}
+
+bool SimulatorCore::on_command(const SpawnRequest& command) {
+  auto last = last_command_seq_.find(command.sender);
+  if (last != last_command_seq_.end() && command.seq <= last->second) {
+    reject("repeated command from '" + command.sender + "'");
+    return false;
+  }
+  last_command_seq_[command.sender] = command.seq;
+  switch (command.kind) {
+    case SpawnRequest::Kind::kPause: paused_ = true; return true;
+    case SpawnRequest::Kind::kResume: paused_ = false; return true;
+    case SpawnRequest::Kind::kReset: reset(); return true;
+    case SpawnRequest::Kind::kRemove: {
+      const int index = world_.find(command.body_id);
+      if (index < 0 || world_.bodies()[index].real) {
+        reject("cannot remove '" + command.body_id + "' (no such virtual body)");
+        return false;
+      }
+      world_.remove_body(index);
+      return true;
+    }
+    case SpawnRequest::Kind::kSpawn: break;
+  }
+  const config::ObjectConfig* object = scene_.find_object(command.model);
+  if (!object || object->role != config::Role::kVirtual || object->motion != config::Motion::kDynamic) {
+    reject("spawn of '" + command.model + "': not a virtual dynamic object of the scene");
+    return false;
+  }
+  int live = 0;
+  for (const auto& body : world_.bodies()) live += body.model == object->id;
+  if (live >= object->max_instances) {
+    reject("spawn of '" + command.model + "': " + std::to_string(live) + " live, the limit is " +
+           std::to_string(object->max_instances));
+    return false;
+  }
+  if (!command.X_WB.matrix().allFinite() || !command.v_WB_m_s.allFinite() || !command.w_WB_rad_s.allFinite()) {
+    reject("spawn of '" + command.model + "': non-finite pose or velocity");
+    return false;
+  }
+  if (command.X_WB.translation().norm() > options_.max_spawn_distance_m) {
+    reject("spawn of '" + command.model + "': further than " + std::to_string(options_.max_spawn_distance_m) +
+           " m from the world origin");
+    return false;
+  }
+  if (command.v_WB_m_s.norm() > options_.max_spawn_speed_m_s) {
+    reject("spawn of '" + command.model + "': faster than " + std::to_string(options_.max_spawn_speed_m_s) + " m/s");
+    return false;
+  }
+  const std::string id = object->id + "#" + std::to_string(spawn_counter_[object->id]++);
+  world_.add_body(dynamics::make_instance(*object, id, command.X_WB, command.v_WB_m_s, command.w_WB_rad_s));
+  return true;
+}
+
+// Each tracked body moves, over [t0, t1], from where it is to where its tracking says,
+// unless that motion meets a static virtual body: then it stops at the time of impact.
+void SimulatorCore::update_kinematic(double t0, double t1) {
+  proxy_contacts_.clear();
+  for (auto& [id, driver] : drivers_) {
+    const int index = world_.find(id);
+    if (index < 0 || !driver.has_pose()) continue;
+    auto seen = last_seen_s_.find(id);
+    if (seen != last_seen_s_.end() && t0 - seen->second > options_.stale_timeout_s) driver.on_lost(t0);
+    dynamics::RigidBody& body = world_.body(index);
+    const geometry::Pose from = body.X_WB;
+    geometry::Pose to = driver.trajectory().pose_at(t1);
+    const geometry::ScrewMotion motion(from, to);
+    double earliest = 1.0;
+    for (const dynamics::RigidBody& other : world_.bodies()) {
+      if (other.real || other.motion != dynamics::BodyMotion::kStatic) continue;
+      const auto r = collision::time_of_impact(body.shape, motion, other.shape,
+                                               geometry::ScrewMotion(other.X_WB, other.X_WB));
+      if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart) continue;
+      if (r.time_of_impact < earliest) {
+        earliest = r.time_of_impact;
+        proxy_contacts_.clear();
+        proxy_contacts_.push_back({id, other.id, r.point_W, r.normal_W, t0 + earliest * (t1 - t0)});
+      }
+    }
+    if (earliest < 1.0) to = motion.pose_at(earliest);
+    body.trajectory = dynamics::KinematicTrajectory();
+    body.trajectory.add(t0, from);
+    if (t1 > t0) body.trajectory.add(t1, to);
+  }
+}
+
+int SimulatorCore::advance_to(double t_s) {
+  int steps = 0;
+  const double dt = scene_.time_step_s;
+  while (!paused_ && world_.time_s() + dt <= t_s + 1e-12) {
+    update_kinematic(world_.time_s(), world_.time_s() + dt);
+    last_report_ = world_.step(dt);
+    ++steps;
+  }
+  return steps;
+}
+
+std::vector<std::string> SimulatorCore::lost_objects() const {
+  std::vector<std::string> lost;
+  for (const auto& [id, driver] : drivers_) {
+    auto seen = last_seen_s_.find(id);
+    if (seen == last_seen_s_.end() || world_.time_s() - seen->second > options_.stale_timeout_s) lost.push_back(id);
+  }
+  return lost;
+}
+
+double SimulatorCore::added_latency_s(const std::string& object_id) const {
+  auto it = drivers_.find(object_id);
+  return it == drivers_.end() ? 0.0 : it->second.added_latency_s();
+}
+
+}  // namespace arphys::sim

@@ -1,0 +1,64 @@
+#include "simulator/process/tracking_driver.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "simulator/geometry/screw_motion.hpp"
+
+namespace arphys::sim {
+
+const char* to_string(TrackingPolicy policy) { return policy == TrackingPolicy::kDelay ? "delay" : "extrapolate"; }
+
+TrackingPolicy tracking_policy_from(const std::string& name) {
+  if (name == "delay") return TrackingPolicy::kDelay;
+  if (name == "extrapolate") return TrackingPolicy::kExtrapolate;
+  throw std::invalid_argument("tracking policy '" + name + "': expected 'delay' or 'extrapolate'");
+}
+
+TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s)
+    : policy_(policy), frame_interval_s_(default_frame_interval_s) {}
+
+void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s) {
+  const bool first = last_capture_s_ < 0 || lost_;
+  if (!first) {
+    // The frame interval, smoothed, bounded to sane camera rates (5 to 1000 Hz).
+    const double interval = std::clamp(capture_t_s - last_capture_s_, 1e-3, 0.2);
+    frame_interval_s_ = 0.8 * frame_interval_s_ + 0.2 * interval;
+  }
+  const double after = trajectory_.empty() ? -1e300 : trajectory_.poses().back().t_s;
+  if (first) {
+    // (Re)acquired: start from where the body is, or appear there if it never was.
+    trajectory_.hold_from(now_s);
+    const double t = std::max(now_s, after + 1e-9);
+    if (trajectory_.empty()) {
+      trajectory_.add(t, X_WO);
+    } else {
+      // Move there over one frame rather than teleport.
+      trajectory_.add(t + frame_interval_s_, X_WO);
+    }
+  } else if (policy_ == TrackingPolicy::kDelay) {
+    trajectory_.add(std::max(capture_t_s + frame_interval_s_, after + 1e-9), X_WO);
+  } else {
+    // Blend from the current (extrapolated) pose to the measurement over half a frame,
+    // then keep going with the measured twist for one more frame.
+    trajectory_.hold_from(now_s);
+    const double blend_end = std::max(now_s + 0.5 * frame_interval_s_, after + 1e-9);
+    const double lag = std::max(0.0, blend_end - capture_t_s);
+    const geometry::ScrewMotion twist(last_pose_, X_WO);  // over (capture - last capture)
+    const double span = std::max(capture_t_s - last_capture_s_, 1e-3);
+    trajectory_.add(blend_end, twist.pose_at(1.0 + lag / span));
+    trajectory_.add(blend_end + frame_interval_s_, twist.pose_at(1.0 + (lag + frame_interval_s_) / span));
+  }
+  trajectory_.forget_before(now_s - 1.0);
+  last_capture_s_ = capture_t_s;
+  last_pose_ = X_WO;
+  lost_ = false;
+}
+
+void TrackingDriver::on_lost(double now_s) {
+  if (lost_) return;
+  trajectory_.hold_from(now_s);
+  lost_ = true;
+}
+
+}  // namespace arphys::sim

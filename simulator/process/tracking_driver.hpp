@@ -1,0 +1,46 @@
+#pragma once
+// Turns tracked poses of a real object (timestamped by camera capture) into the
+// trajectory its kinematic body follows, under an explicit latency policy:
+//   kDelay:        each pose is reached one frame interval after its capture, moving on
+//                  the screw from the previous one: smooth, continuous, one frame late.
+//   kExtrapolate:  the body continues with the last measured twist; when a new pose
+//                  arrives it blends to it over half a frame, then extrapolates again:
+//                  no added latency, small corrections.
+// A lost track, or no pose for longer than the stale timeout, holds the body still.
+#include <cstdint>
+#include <string>
+
+#include "simulator/dynamics/kinematic_trajectory.hpp"
+
+namespace arphys::sim {
+
+enum class TrackingPolicy { kDelay, kExtrapolate };
+const char* to_string(TrackingPolicy policy);
+TrackingPolicy tracking_policy_from(const std::string& name);  // "delay" | "extrapolate"
+
+class TrackingDriver {
+ public:
+  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30);
+
+  // A measured pose captured at simulation time capture_t_s (must increase; the
+  // caller checks). now_s: the current simulation time.
+  void on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s);
+  // The object is not seen any more (status LOST, or stale): hold it where it is.
+  void on_lost(double now_s);
+
+  const dynamics::KinematicTrajectory& trajectory() const { return trajectory_; }
+  bool has_pose() const { return !trajectory_.empty(); }
+  double last_capture_s() const { return last_capture_s_; }
+  // Added latency of the policy, seconds (one frame interval for kDelay, 0 otherwise).
+  double added_latency_s() const { return policy_ == TrackingPolicy::kDelay ? frame_interval_s_ : 0.0; }
+
+ private:
+  TrackingPolicy policy_;
+  dynamics::KinematicTrajectory trajectory_;
+  double frame_interval_s_;
+  double last_capture_s_ = -1;
+  geometry::Pose last_pose_ = geometry::Pose::Identity();
+  bool lost_ = true;
+};
+
+}  // namespace arphys::sim

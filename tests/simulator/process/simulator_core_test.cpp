@@ -1,0 +1,158 @@
+#include "simulator/process/simulator_core.hpp"
+
+#include <gtest/gtest.h>
+
+#include "simulator/collision/discrete_query.hpp"
+
+namespace arphys::sim {
+namespace {
+
+const std::string kScenes = std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/";
+constexpr int64_t kStart = 1'700'000'000'000'000;  // a capture utime
+
+TrackingFrame frame(int64_t utime, int64_t seq, const std::string& id, const Eigen::Vector3d& p) {
+  TrackingFrame f;
+  f.capture_utime = utime;
+  f.seq = seq;
+  TrackedObject o;
+  o.object_id = id;
+  o.X_WO = geometry::translation_pose(p);
+  f.objects.push_back(o);
+  return f;
+}
+
+TEST(SimulatorCore, FramesOutOfOrderDuplicatedOrForUnknownObjectsAreRefusedWithReasons) {
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  EXPECT_EQ(core.on_tracking(frame(kStart, 1, "box", {0.25, 0, 0.075})), 1);
+  EXPECT_EQ(core.on_tracking(frame(kStart, 1, "box", {0.25, 0, 0.075})), 0);
+  EXPECT_EQ(core.rejections().at("duplicate tracking frame"), 1);
+  EXPECT_EQ(core.on_tracking(frame(kStart - 1000, 2, "box", {0.25, 0, 0.075})), 0);
+  EXPECT_EQ(core.rejections().at("out-of-order tracking frame"), 1);
+  EXPECT_EQ(core.on_tracking(frame(kStart + 33'333, 3, "ghost", {0, 0, 0})), 0);
+  EXPECT_EQ(core.rejections().at("unknown object 'ghost'"), 1);
+  EXPECT_EQ(core.on_tracking(frame(kStart + 66'666, 4, "table", {0, 0, 0})), 0);  // static: not driven by tracking
+  TrackingFrame nan = frame(kStart + 99'999, 5, "box", {0.25, 0, 0.075});
+  nan.objects[0].X_WO.translation().x() = std::nan("");
+  EXPECT_EQ(core.on_tracking(nan), 0);
+  EXPECT_EQ(core.rejections().at("non-finite pose of 'box'"), 1);
+  EXPECT_EQ(core.rejected_total(), 5);
+}
+
+TEST(SimulatorCore, TrackedBoxFollowsOneFrameLateAndIsHeldWhenLost) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  SimulatorCore core(scene, {});
+  const int box = core.world().find("box");
+  ASSERT_GE(box, 0);
+  for (int k = 0; k <= 30; ++k)  // 1 s at 30 Hz, moving +x at 0.3 m/s
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+  core.advance_to(core.sim_time_of(kStart + 30 * 33'333));
+  EXPECT_NEAR(core.added_latency_s("box"), 1.0 / 30, 2e-3);
+  // One frame behind the last measurement (0.55 m), along the path (within a 10 ms step).
+  EXPECT_NEAR(core.world().bodies()[box].X_WB.translation().x(), 0.54, 4e-3);
+  EXPECT_TRUE(core.lost_objects().empty());
+  // No more frames: after the stale timeout the box is held where it is.
+  core.advance_to(core.sim_time_s() + 1.0);
+  const double held = core.world().bodies()[box].X_WB.translation().x();
+  core.advance_to(core.sim_time_s() + 1.0);
+  EXPECT_EQ(core.world().bodies()[box].X_WB.translation().x(), held);
+  EXPECT_EQ(core.lost_objects(), std::vector<std::string>{"box"});
+}
+
+TEST(SimulatorCore, ExtrapolatePolicyAddsNoLatency) {
+  CoreOptions options;
+  options.policy = TrackingPolicy::kExtrapolate;
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), options);
+  const int box = core.world().find("box");
+  for (int k = 0; k <= 30; ++k) core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+  core.advance_to(core.sim_time_of(kStart + 30 * 33'333));
+  EXPECT_EQ(core.added_latency_s("box"), 0.0);
+  EXPECT_NEAR(core.world().bodies()[box].X_WB.translation().x(), 0.55, 3e-3);
+}
+
+TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  const std::size_t before = core.world().bodies().size();
+  SpawnRequest spawn;
+  spawn.sender = "test";
+  spawn.model = "bunny";
+  spawn.X_WB = geometry::translation_pose({0, 0, 0.3});
+  spawn.seq = 1;
+  EXPECT_TRUE(core.on_command(spawn));
+  EXPECT_EQ(core.world().bodies().size(), before + 1);
+  EXPECT_FALSE(core.on_command(spawn));  // the same seq again: a repeat
+  spawn.seq = 2;
+  spawn.v_WB_m_s = Eigen::Vector3d(100, 0, 0);
+  EXPECT_FALSE(core.on_command(spawn));
+  spawn.seq = 3;
+  spawn.v_WB_m_s.setZero();
+  spawn.X_WB = geometry::translation_pose({50, 0, 0.3});
+  EXPECT_FALSE(core.on_command(spawn));
+  spawn.seq = 4;
+  spawn.model = "table";
+  spawn.X_WB = geometry::translation_pose({0, 0, 0.3});
+  EXPECT_FALSE(core.on_command(spawn));
+  spawn.model = "bunny";
+  for (int k = 0; k < 40; ++k) {
+    spawn.seq = 10 + k;
+    spawn.X_WB = geometry::translation_pose({-0.5 + 0.05 * k, 0, 0.5});
+    core.on_command(spawn);
+  }
+  int bunnies = 0;
+  for (const auto& body : core.world().bodies()) bunnies += body.model == "bunny";
+  EXPECT_EQ(bunnies, 20);  // max_instances
+  EXPECT_GE(core.rejected_total(), 4 + 20);
+  SpawnRequest remove;
+  remove.sender = "test";
+  remove.seq = 100;
+  remove.kind = SpawnRequest::Kind::kRemove;
+  remove.body_id = "box";  // a real body
+  EXPECT_FALSE(core.on_command(remove));
+  remove.seq = 101;
+  remove.body_id = "bunny#0";
+  EXPECT_TRUE(core.on_command(remove));
+}
+
+TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
+  auto run = [] {
+    SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+    for (int k = 0; k <= 60; ++k)
+      core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 - 0.008 * k, 0.002 * (k % 3), 0.0755}));
+    core.advance_to(core.sim_time_of(kStart + 60 * 33'333));
+    std::vector<Eigen::Matrix4d> poses;
+    for (const auto& body : core.world().bodies()) poses.push_back(body.X_WB.matrix());
+    return poses;
+  };
+  const auto a = run(), b = run();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "body " << i;  // bit for bit
+}
+
+// Application 1: the tracked spoon moves into the virtual teacup's wall; its proxy
+// stops at the time of impact, the contact is reported, and it never enters the cup.
+TEST(SimulatorCore, SpoonProxyStopsAtTheTeacup) {
+  config::SceneConfig scene = config::load_scene(kScenes + "spoon_teacup.yaml");
+  SimulatorCore core(scene, {});
+  const int spoon = core.world().find("spoon");
+  const int cup = core.world().find("teacup");
+  ASSERT_GE(spoon, 0);
+  ASSERT_GE(cup, 0);
+  bool contact = false;
+  std::vector<double> proxy_x;
+  for (int k = 0; k <= 60; ++k) {
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "spoon", {0.3 - 0.005 * k, 0, 0.035}));  // into the wall at x ~ 0.08
+    core.advance_to(core.sim_time_of(kStart + k * 33'333));
+    contact |= !core.proxy_contacts().empty();
+    proxy_x.push_back(core.world().bodies()[spoon].X_WB.translation().x());
+    const auto& bodies = core.world().bodies();
+    ASSERT_FALSE(collision::intersects(*bodies[spoon].shape.triangles(), bodies[spoon].X_WB, *bodies[cup].shape.triangles(),
+                                       bodies[cup].X_WB))
+        << "frame " << k;
+  }
+  EXPECT_TRUE(contact);
+  // Tracking says x = 0.0 now; the proxy stopped at the wall (it may creep along the
+  // surface towards the tracked pose, never into the cup).
+  EXPECT_GT(proxy_x.back(), 0.03);
+}
+
+}  // namespace
+}  // namespace arphys::sim
