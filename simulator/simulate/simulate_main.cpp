@@ -25,7 +25,7 @@ void write_rows(std::ostream& out, const dynamics::World& world) {
     const Eigen::Quaterniond q(body.X_WB.linear());
     const Eigen::Vector3d v = body.origin_velocity();
     const Eigen::Vector3d& w = body.w_W_rad_s;
-    std::snprintf(row, sizeof row, "%.6f,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+    std::snprintf(row, sizeof row, "%.6f,%s,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n",
                   world.time_s(), body.id.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(),
                   w.x(), w.y(), w.z());
     out << row;

@@ -1,0 +1,117 @@
+// The simulator as a real process on real LCM multicast: tracked poses in, world states
+// and heartbeats out; malformed and invalid messages are counted and dropped.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "arphys/object_poses_t.hpp"
+#include "arphys/process_status_t.hpp"
+#include "arphys/world_state_t.hpp"
+#include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/pose_conversions.hpp"
+
+extern char** environ;
+
+namespace {
+
+const std::string kUrl = "udpm://239.255.76.67:7992?ttl=0";
+
+pid_t spawn(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
+  return pid;
+}
+
+arphys::object_poses_t box_frame(int64_t utime, int64_t seq, double x) {
+  arphys::object_poses_t m{};
+  m.utime = utime;
+  m.seq = seq;
+  m.camera_id = "test";
+  m.tracker_implementation = "test";
+  arphys::object_pose_t o{};
+  o.object_id = "box";
+  o.status = arphys::object_pose_t::STATUS_TRACKED;
+  o.world_valid = true;
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() = Eigen::Vector3d(x, 0, 0.0755);
+  o.X_WO = arphys::msg::to_message(X);
+  o.X_CO = o.X_WO;
+  m.objects.push_back(o);
+  m.num_objects = 1;
+  return m;
+}
+
+TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
+  {
+    lcm::LCM probe(kUrl);
+    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  }
+  arphys::msg::Bus bus(kUrl);
+  std::vector<arphys::world_state_t> states;
+  std::vector<arphys::process_status_t> statuses;
+  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
+                                                                 const std::string&) { states.push_back(m); });
+  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
+                                                               const std::string&) { statuses.push_back(m); });
+  const pid_t sim = spawn({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
+                           std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kUrl,
+                           "--clock", "messages", "--duration", "20"});
+  ASSERT_GT(sim, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let it load the scene and join the group
+
+  const int64_t t0 = arphys::msg::now_utime();
+  // Garbage on the tracking channel, and a frame with a NaN pose: counted, dropped.
+  const char garbage[] = "definitely not an object_poses_t";
+  bus.publish_raw("ARPHYS_OBJECT_POSES", garbage, sizeof garbage);
+  arphys::object_poses_t nan_frame = box_frame(t0 - 1000, 0, 0.25);
+  nan_frame.objects[0].X_WO.position_m[0] = std::nan("");
+  bus.publish("ARPHYS_OBJECT_POSES", nan_frame);
+  // One second of a tracked box moving -x at 0.3 m/s, at 30 Hz (replayed time: capture
+  // stamps spaced by 33 ms, sent faster than real time).
+  for (int k = 0; k <= 30; ++k) {
+    bus.publish("ARPHYS_OBJECT_POSES", box_frame(t0 + k * 33'333, k + 1, 0.25 - 0.01 * k));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    bus.handle_pending();
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline &&
+         (states.empty() || states.back().sim_time_s < 0.99 || statuses.size() < 2))
+    bus.handle_timeout_ms(100);
+  kill(sim, SIGTERM);
+  int status = 0;
+  waitpid(sim, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "exit status " << status;
+
+  ASSERT_FALSE(states.empty());
+  const arphys::world_state_t& last = states.back();
+  EXPECT_NEAR(last.sim_time_s, 1.0, 0.02);
+  EXPECT_EQ(last.utime, t0 + 30 * 33'333);  // the newest capture used
+  EXPECT_EQ(last.seq, 31);
+  bool found_box = false;
+  int bunnies = 0;
+  for (const auto& body : last.bodies) {
+    if (body.body_id == "box") {
+      found_box = true;
+      EXPECT_NEAR(body.X_WB.position_m[0], -0.04, 5e-3);  // one frame behind -0.05
+    }
+    bunnies += body.model == "bunny";
+  }
+  EXPECT_TRUE(found_box);
+  EXPECT_GE(bunnies, 1);
+  ASSERT_FALSE(statuses.empty());
+  EXPECT_EQ(statuses.back().name, "simulator");
+  EXPECT_GE(statuses.back().decode_errors, 1);
+  EXPECT_GE(statuses.back().rejected, 1);
+  EXPECT_GT(statuses.back().published, 50);
+}
+
+}  // namespace

@@ -1,0 +1,62 @@
+// The simulate command as a process: its CSV contract and its errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+std::string run(const std::string& args, int* exit_code) {
+  const std::string err = ::testing::TempDir() + "simulate_cli_err.txt";
+  const std::string command = std::string(ARPHYS_BINARY_DIR) + "/simulator/simulate/simulate " + args + " 2> " + err;
+  *exit_code = WEXITSTATUS(std::system(command.c_str()));
+  std::ifstream in(err);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(SimulateCli, InclineCsvHasTheContractAndTheExactAcceleration) {
+  const std::string csv = ::testing::TempDir() + "incline.csv";
+  int code = 0;
+  const std::string summary = run(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/incline.yaml --duration 0.5 --csv " + csv, &code);
+  ASSERT_EQ(code, 0) << summary;
+  EXPECT_NE(summary.find("500 steps"), std::string::npos) << summary;
+  std::ifstream in(csv);
+  std::string line, last_box;
+  std::getline(in, line);
+  EXPECT_EQ(line, "t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
+  int rows = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    if (line.find(",box,") != std::string::npos) last_box = line;
+  }
+  EXPECT_EQ(rows, 2 * 501);  // two bodies, t = 0 and 500 steps
+  std::stringstream fields(last_box);
+  std::vector<double> v;
+  std::string field;
+  while (std::getline(fields, field, ','))
+    if (field != "box") v.push_back(std::stod(field));
+  ASSERT_EQ(v.size(), 14u);
+  EXPECT_DOUBLE_EQ(v[0], 0.5);
+  // Down the slope at g sin 30 for 0.5 s: 2.4525 m/s along (-cos 30, 0, -sin 30).
+  EXPECT_NEAR(-v[8] * std::cos(M_PI / 6) - v[10] * std::sin(M_PI / 6), 9.81 * 0.5 * 0.5, 1e-9);
+}
+
+TEST(SimulateCli, BadSceneNamesTheFileAndFails) {
+  const std::string bad = ::testing::TempDir() + "bad_scene.yaml";
+  std::ofstream(bad) << "name: bad\nobjects:\n  - id: ball\n    role: virtual\n    motion: dynamic\n"
+                        "    collision: {shape: sphere, radius_m: -1}\n";
+  int code = 0;
+  const std::string error = run(bad + " --duration 1 --csv -", &code);
+  EXPECT_EQ(code, 2);
+  EXPECT_NE(error.find(bad), std::string::npos) << error;
+  EXPECT_NE(error.find("radius_m"), std::string::npos) << error;
+  run("/nonexistent.yaml --duration 1 --csv -", &code);
+  EXPECT_NE(code, 0);
+}
+
+}  // namespace
