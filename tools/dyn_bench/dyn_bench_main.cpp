@@ -1,0 +1,272 @@
+// arphys-dyn-bench: the dynamics scenes of ../shared/anchors/dyn.md on arphys and on
+// its peers (Bullet, ODE, MuJoCo) in one run, with the same metrics for all:
+//   stack     frictionless stacks of 5 and 10 boxes: topple? top-box drift, tilt
+//   push      a 30 Hz tracked box pushing a box at 0.5 m/s (one frame late, piecewise
+//             linear), with 0 and 1 mm noise: peak pushed speed / 0.5, overlap
+//   drop      N = 10, 100, 1000 boxes dropped on a plane: ms per step, penetration
+//   bunnies   the paper's scene (arphys only: the peers have no dynamic concave meshes
+//             here): real-time factor
+// Writes CSV per scene and prints tables. Times are wall clock of the stepping loop.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "configs/loader/scene_config.hpp"
+#include "simulator/dynamics/scene_world.hpp"
+#include "tools/dyn_bench/engine.hpp"
+
+namespace arphys::dyn_bench {
+
+std::unique_ptr<Engine> make_arphys_engine(bool iterative);
+std::unique_ptr<Engine> make_bullet_engine();
+std::unique_ptr<Engine> make_ode_engine(bool quick);
+std::unique_ptr<Engine> make_mujoco_engine(const std::string& solver);
+
+std::unique_ptr<Engine> make_engine(const std::string& v) {
+  if (v == "arphys") return make_arphys_engine(false);
+  if (v == "arphys-iterative") return make_arphys_engine(true);
+  if (v == "bullet") return make_bullet_engine();
+  if (v == "ode-step") return make_ode_engine(false);
+  if (v == "ode-quick") return make_ode_engine(true);
+  if (v.rfind("mujoco-", 0) == 0) return make_mujoco_engine(v.substr(7));
+  throw std::invalid_argument("unknown engine '" + v + "'");
+}
+
+std::vector<std::string> all_engines() {
+  return {"arphys", "arphys-iterative", "bullet", "ode-step", "ode-quick", "mujoco-newton", "mujoco-pgs", "mujoco-cg"};
+}
+
+}  // namespace arphys::dyn_bench
+
+namespace {
+
+using namespace arphys::dyn_bench;
+using Clock = std::chrono::steady_clock;
+
+BenchBody plane(double friction = 0) {
+  BenchBody b;
+  b.shape = BenchBody::Shape::kPlane;
+  b.motion = BenchBody::Motion::kStatic;
+  b.friction = friction;
+  return b;
+}
+
+BenchBody box_at(const Eigen::Vector3d& p, double friction = 0) {
+  BenchBody b;
+  b.X_WB.translation() = p;
+  b.friction = friction;
+  return b;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Deepest box corner below the plane z = 0, metres (0: none).
+double corner_penetration(const Eigen::Isometry3d& X, const Eigen::Vector3d& h) {
+  double deepest = 0;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d c(i & 1 ? h.x() : -h.x(), i & 2 ? h.y() : -h.y(), i & 4 ? h.z() : -h.z());
+    deepest = std::max(deepest, -(X * c).z());
+  }
+  return deepest;
+}
+
+struct Csv {
+  std::ofstream out;
+  Csv(const std::string& path, const std::string& header) : out(path) { out << header << "\n"; }
+};
+
+void run_stack(const std::vector<std::string>& engines, double duration, Csv& csv) {
+  std::printf("\n== stack: frictionless, %.0f s\n%-18s %3s %6s %8s %9s %12s %10s %10s\n", duration, "engine", "n", "dt_ms",
+              "toppled", "topple_s", "top_drift_mm", "tilt_deg", "ms/step");
+  for (int n : {5, 10})
+    for (double dt : {1e-3, 1e-2})
+      for (const std::string& e : engines) {
+        BenchScene scene;
+        scene.bodies.push_back(plane());
+        for (int i = 0; i < n; ++i) scene.bodies.push_back(box_at({0, 0, 0.1 + 0.2 * i}));
+        auto engine = make_engine(e);
+        engine->build(scene, dt);
+        const Eigen::Vector3d top0 = scene.bodies.back().X_WB.translation();
+        double drift = 0, tilt = 0, topple_t = -1;
+        const long steps = std::lround(duration / dt);
+        const auto start = Clock::now();
+        for (long k = 0; k < steps; ++k) {
+          engine->step();
+          drift = std::max(drift, (engine->pose(n).translation() - top0).norm());
+          for (int i = 1; i <= n; ++i) {
+            const Eigen::Isometry3d X = engine->pose(i);
+            const Eigen::Vector3d d = X.translation() - scene.bodies[i].X_WB.translation();
+            tilt = std::max(tilt, Eigen::AngleAxisd(X.linear()).angle());
+            if (topple_t < 0 && (d.head<2>().norm() > 0.1 || std::abs(d.z()) > 0.1)) topple_t = (k + 1) * dt;
+          }
+          if (topple_t >= 0 && (k + 1) * dt > topple_t + 1.0) break;  // toppled: no need to watch the pile
+        }
+        const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / steps;
+        std::printf("%-18s %3d %6.0f %8s %9.3f %12.4f %10.4f %10.4f\n", e.c_str(), n, dt * 1e3, topple_t >= 0 ? "YES" : "no",
+                    topple_t, 1e3 * drift, tilt * 180 / M_PI, ms);
+        csv.out << e << "," << n << "," << dt << "," << (topple_t >= 0) << "," << topple_t << "," << 1e3 * drift << ","
+                << tilt * 180 / M_PI << "," << ms << "\n";
+        std::fflush(stdout);
+      }
+}
+
+void run_push(const std::vector<std::string>& engines, Csv& csv) {
+  std::printf("\n== push: 30 Hz tracked pusher, one frame late, 0.5 m/s for 3 s, floor friction 0.5\n"
+              "%-18s %6s %8s %10s %11s %10s\n", "engine", "dt_ms", "noise_mm", "peak/0.5", "overlap_mm", "ms/step");
+  for (double dt : {1e-3, 1e-2})
+    for (double sigma : {0.0, 1e-3})
+      for (const std::string& e : engines) {
+        // Observations P_k at t_k = k / 30 (seed 777), as in the anchor.
+        std::mt19937 rng(777);
+        std::normal_distribution<double> noise(0, 1);
+        std::vector<Eigen::Vector3d> P;
+        for (int k = 0; k * (1.0 / 30) <= 4.1; ++k) {
+          const double t = k / 30.0;
+          P.emplace_back(0.5 * std::min(t, 3.0) + (k ? sigma * noise(rng) : 0.0), k ? sigma * noise(rng) : 0.0, 0.102);
+        }
+        BenchScene scene;
+        scene.bodies.push_back(plane(0.5));
+        BenchBody pusher = box_at({0, 0, 0.102}, 0.5);
+        pusher.motion = BenchBody::Motion::kKinematic;
+        scene.bodies.push_back(pusher);
+        scene.bodies.push_back(box_at({0.3, 0, 0.1}, 0.5));
+        auto engine = make_engine(e);
+        engine->build(scene, dt);
+        double peak = 0, overlap = 0;
+        const long steps = std::lround(4.0 / dt);
+        const auto start = Clock::now();
+        for (long s = 0; s < steps; ++s) {
+          const double t = s * dt;
+          const int k = std::max(1, static_cast<int>(t * 30));
+          const Eigen::Vector3d v = 30.0 * (P[k] - P[k - 1]);
+          Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+          X.translation() = P[k - 1] + (t - k / 30.0) * v;  // mode L: one frame late, linear
+          engine->set_kinematic(1, X, v);
+          engine->step();
+          peak = std::max(peak, engine->velocity(2).norm());
+          overlap = std::max(overlap, engine->pose(1).translation().x() + 0.2 - engine->pose(2).translation().x());
+        }
+        const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / steps;
+        std::printf("%-18s %6.0f %8.0f %10.3f %11.3f %10.4f\n", e.c_str(), dt * 1e3, sigma * 1e3, peak / 0.5,
+                    1e3 * overlap, ms);
+        csv.out << e << "," << dt << "," << sigma << "," << peak / 0.5 << "," << 1e3 * overlap << "," << ms << "\n";
+        std::fflush(stdout);
+      }
+}
+
+void run_drop(const std::vector<std::string>& engines, const std::vector<int>& counts, double duration, Csv& csv) {
+  std::printf("\n== drop: N boxes on a plane, dt 1 ms, %.1f s\n%-18s %5s %5s %10s %16s %10s\n", duration, "engine", "N",
+              "mu", "ms/step", "max_pen_mm", "final_pen_mm");
+  for (int n : counts)
+    for (double mu : {0.0, 0.5})
+      for (const std::string& e : engines) {
+        BenchScene scene;
+        scene.bodies.push_back(plane(mu));
+        // splitmix64 seed 12345, as the scene files and the anchor.
+        uint64_t state = 12345;
+        auto next = [&] {
+          uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+          z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+          z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+          return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+        };
+        for (int i = 0; i < n; ++i) {
+          const int layer = i / 100, gx = i % 10, gy = (i % 100) / 10;
+          BenchBody b = box_at({(gx - 4.5) * 0.35, (gy - 4.5) * 0.35, 0.2 + 0.35 * layer}, mu);
+          const Eigen::Vector3d axis(2 * next() - 1, 2 * next() - 1, 2 * next() - 1);
+          const double angle = 0.3 * next();
+          if (axis.norm() > 0) b.X_WB.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+          scene.bodies.push_back(b);
+        }
+        auto engine = make_engine(e);
+        try {
+          engine->build(scene, 1e-3);
+        } catch (const std::exception& ex) {
+          std::printf("%-18s %5d %5.1f  could not build: %s\n", e.c_str(), n, mu, ex.what());
+          continue;
+        }
+        std::vector<double> ms;
+        double deepest = 0, final_pen = 0;
+        const long steps = std::lround(duration / 1e-3);
+        for (long s = 0; s < steps; ++s) {
+          const auto t0 = Clock::now();
+          engine->step();
+          ms.push_back(1e3 * std::chrono::duration<double>(Clock::now() - t0).count());
+          if (s % 10 == 9 || s + 1 == steps) {
+            final_pen = 0;
+            for (int i = 1; i <= n; ++i) final_pen = std::max(final_pen, corner_penetration(engine->pose(i), {0.1, 0.1, 0.1}));
+            deepest = std::max(deepest, final_pen);
+          }
+        }
+        std::printf("%-18s %5d %5.1f %10.3f %16.4f %10.4f\n", e.c_str(), n, mu, median(ms), 1e3 * deepest, 1e3 * final_pen);
+        csv.out << e << "," << n << "," << mu << "," << median(ms) << "," << 1e3 * deepest << "," << 1e3 * final_pen << "\n";
+        std::fflush(stdout);
+      }
+}
+
+void run_bunnies(const std::string& configs, double duration, Csv& csv) {
+  std::printf("\n== bunnies (arphys): the paper's scene, dt 10 ms, %.1f s\n%-12s %8s %10s %16s %10s\n", duration, "scene",
+              "bodies", "ms/step", "real-time factor", "impacts");
+  for (const std::string name : {"bunnies20", "bunnies100"}) {
+    const auto scene = arphys::config::load_scene(configs + "/scenes/" + name + ".yaml");
+    arphys::dynamics::World world = arphys::dynamics::build_world(scene);
+    const long steps = std::lround(duration / scene.time_step_s);
+    long impacts = 0;
+    const auto start = Clock::now();
+    for (long s = 0; s < steps; ++s) impacts += world.step(scene.time_step_s).events;
+    const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+    std::printf("%-12s %8zu %10.3f %16.2f %10ld\n", name.c_str(), world.bodies().size(), 1e3 * wall / steps, duration / wall,
+                impacts);
+    csv.out << name << "," << world.bodies().size() << "," << 1e3 * wall / steps << "," << duration / wall << "," << impacts
+            << "\n";
+    std::fflush(stdout);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"arphys dynamics benchmark against Bullet 3.24, ODE 0.16 and MuJoCo 2.2.2 on the scenes of the dynamics issue."};
+  std::vector<std::string> scenes{"stack", "push", "drop", "bunnies"};
+  std::vector<std::string> engines = all_engines();
+  std::string out = ".";
+  bool quick = false;
+  app.add_option("--scenes", scenes, "scenes to run")->delimiter(',');
+  app.add_option("--engines", engines, "engines to run")->delimiter(',');
+  app.add_option("--out", out, "directory for the CSV files");
+  app.add_flag("--quick", quick, "short runs (smoke test)");
+  CLI11_PARSE(app, argc, argv);
+  std::printf("arphys-dyn-bench: engines %s\n", [&] {
+    std::string s;
+    for (const auto& e : engines) s += e + " ";
+    return s;
+  }().c_str());
+  for (const std::string& scene : scenes) {
+    if (scene == "stack") {
+      Csv csv(out + "/dyn_stack.csv", "engine,n,dt_s,toppled,topple_t_s,top_drift_mm,max_tilt_deg,ms_per_step");
+      run_stack(engines, quick ? 2.0 : 60.0, csv);
+    } else if (scene == "push") {
+      Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step");
+      run_push(engines, csv);
+    } else if (scene == "drop") {
+      Csv csv(out + "/dyn_drop.csv", "engine,n,mu,median_ms_per_step,max_penetration_mm,final_penetration_mm");
+      run_drop(engines, quick ? std::vector<int>{10, 100} : std::vector<int>{10, 100, 1000}, quick ? 0.3 : 2.0, csv);
+    } else if (scene == "bunnies") {
+      Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts");
+      run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, csv);
+    } else {
+      std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str());
+      return 2;
+    }
+  }
+  return 0;
+}

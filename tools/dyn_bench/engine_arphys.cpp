@@ -1,0 +1,62 @@
+#include "tools/dyn_bench/engine.hpp"
+
+#include "simulator/dynamics/world.hpp"
+#include "simulator/geometry/mass_properties.hpp"
+
+namespace arphys::dyn_bench {
+
+class ArphysEngine : public Engine {
+ public:
+  explicit ArphysEngine(bool iterative) : iterative_(iterative) {}
+  std::string name() const override { return iterative_ ? "arphys-iterative" : "arphys"; }
+  void build(const BenchScene& scene, double dt_s) override {
+    dynamics::WorldOptions options;
+    options.gravity_m_s2 = scene.gravity_m_s2;
+    if (iterative_) options.solver.kind = dynamics::ContactSolverKind::kProjectedGaussSeidel;
+    world_ = std::make_unique<dynamics::World>(options);
+    dt_ = dt_s;
+    for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+      const BenchBody& b = scene.bodies[i];
+      dynamics::RigidBody body;
+      body.id = "b" + std::to_string(i);
+      body.X_WB = b.X_WB;
+      body.restitution = b.restitution;
+      if (b.friction > 0) body.friction = b.friction;
+      switch (b.shape) {
+        case BenchBody::Shape::kPlane: body.shape = collision::Shape::plane(); break;
+        case BenchBody::Shape::kBox: body.shape = collision::Shape::box(2 * b.half_extents_m); break;
+        case BenchBody::Shape::kSphere: body.shape = collision::Shape::sphere(b.radius_m); break;
+      }
+      body.motion = b.motion == BenchBody::Motion::kDynamic ? dynamics::BodyMotion::kDynamic
+                    : b.motion == BenchBody::Motion::kKinematic ? dynamics::BodyMotion::kKinematic
+                                                                 : dynamics::BodyMotion::kStatic;
+      if (body.motion == dynamics::BodyMotion::kDynamic) {
+        body.mass = b.shape == BenchBody::Shape::kSphere
+                        ? geometry::with_mass(geometry::sphere_mass_properties(b.radius_m, 1000), b.mass_kg)
+                        : geometry::with_mass(geometry::box_mass_properties(2 * b.half_extents_m, 1000), b.mass_kg);
+        body.v_WC_m_s = b.v_m_s;
+      }
+      world_->add_body(body);
+    }
+  }
+  void set_kinematic(int i, const Eigen::Isometry3d& X, const Eigen::Vector3d& v) override {
+    dynamics::RigidBody& body = world_->body(i);
+    body.trajectory = dynamics::KinematicTrajectory();
+    body.trajectory.add(world_->time_s(), X);
+    Eigen::Isometry3d next = X;
+    next.translation() += v * dt_;
+    body.trajectory.add(world_->time_s() + dt_, next);
+  }
+  void step() override { world_->step(dt_); }
+  Eigen::Isometry3d pose(int i) const override { return world_->bodies()[i].X_WB; }
+  Eigen::Vector3d velocity(int i) const override { return world_->bodies()[i].v_WC_m_s; }
+
+ private:
+  bool iterative_;
+  std::unique_ptr<dynamics::World> world_;
+  double dt_ = 0.001;
+};
+
+std::unique_ptr<Engine> make_arphys_engine(bool iterative) { return std::make_unique<ArphysEngine>(iterative); }
+
+}  // namespace arphys::dyn_bench
