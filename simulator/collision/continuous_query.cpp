@@ -67,6 +67,15 @@ class Search {
       const ObbNode& a = na[task.node_A];
       const ObbNode& b = nb[task.node_B];
       if (a.is_leaf() && b.is_leaf()) {
+        if (options_.max_triangle_pairs > 0 && stats.triangle_pairs_tested >= options_.max_triangle_pairs) {
+          // Out of budget: what came before T.lo is proven free of contact.
+          stats.budget_exhausted = true;
+          if (T.lo < best_) {
+            best_ = T.lo;
+            features_ = {};
+          }
+          break;
+        }
         ++stats.triangle_pairs_tested;
         triangle_pair(a.triangle, b.triangle, T);
         continue;
@@ -215,7 +224,7 @@ ContinuousResult time_of_impact(const CollisionMesh& A, const geometry::ScrewMot
   if (toi == kNoContact) return result;
   result.collides = true;
   result.time_of_impact = std::clamp(toi, 0.0, 1.0);
-  describe_contact(A, motion_A, B, motion_B, result.time_of_impact, result);
+  if (result.features.kind != FeaturePair::kNone) describe_contact(A, motion_A, B, motion_B, result.time_of_impact, result);
   return result;
 }
 

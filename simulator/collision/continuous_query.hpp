@@ -31,12 +31,18 @@ struct ContinuousOptions {
   // The culling halves the time interval when B's box sweeps more than this many
   // times the larger box's half extent over it, and splits a box otherwise.
   double time_split_ratio = 1.0;
+  // Work budget in triangle pairs (0: none). A query that exceeds it stops and reports
+  // the end of what it proved contact-free as a time of impact without features
+  // (budget_exhausted): never late, only earlier. A simulation uses it to bound the
+  // cost of pathological pairs (one mesh sunk inside another).
+  long max_triangle_pairs = 0;
 };
 
 struct ContinuousStats {
   long node_pairs_tested = 0;
   long time_splits = 0;
   long triangle_pairs_tested = 0;
+  bool budget_exhausted = false;
 };
 
 struct ContinuousResult {

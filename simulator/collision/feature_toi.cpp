@@ -278,7 +278,7 @@ namespace {
 // resumes d / (closing speed) later, d the triangles' distance (a proven contact-free
 // step, conservative-advancement style).
 FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tolerance, int zoom_levels) {
-  constexpr int kMaxSteps = 100;
+  constexpr int kMaxSteps = 16;
   for (int step = 0; step < kMaxSteps; ++step) {
     const Leaf leaf = search.search(W, kAllPairs, tolerance);
     if (!leaf.alive) return {};
@@ -310,7 +310,7 @@ FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMot
                                  const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
   if (!(window.lo <= window.hi)) return {};
   const TrianglePairSearch search(rel_AB, rel_BA, a, b, window);
-  return resolve(search, window, time_tolerance, 2);
+  return resolve(search, window, time_tolerance, 1);
 }
 
 }  // namespace arphys::collision

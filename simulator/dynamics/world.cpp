@@ -40,6 +40,57 @@ double combined_friction(const RigidBody& a, const RigidBody& b) {
   return 0;
 }
 
+// The deepest point and the extremes of each normal cluster's patch, as few as keep
+// its support polygon (see WorldOptions::max_contacts_per_pair).
+std::vector<collision::ManifoldPoint> reduce_manifold(std::vector<collision::ManifoldPoint> points, int limit) {
+  if (static_cast<int>(points.size()) <= limit) return points;
+  const double same_direction = std::cos(20.0 * M_PI / 180.0);
+  std::vector<std::vector<int>> clusters;
+  std::vector<Eigen::Vector3d> directions;
+  for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+    int found = -1;
+    for (std::size_t c = 0; c < clusters.size() && found < 0; ++c)
+      if (points[i].normal_W.dot(directions[c]) > same_direction) found = static_cast<int>(c);
+    if (found < 0) {
+      clusters.push_back({i});
+      directions.push_back(points[i].normal_W);
+    } else {
+      clusters[found].push_back(i);
+    }
+  }
+  std::sort(clusters.begin(), clusters.end(), [](const auto& a, const auto& b) { return a.size() > b.size(); });
+  std::vector<collision::ManifoldPoint> kept;
+  for (const auto& cluster : clusters) {
+    if (static_cast<int>(kept.size()) >= limit) break;
+    const Eigen::Vector3d n = points[cluster.front()].normal_W;
+    const Eigen::Vector3d t1 = (std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY()).cross(n).normalized();
+    const Eigen::Vector3d t2 = n.cross(t1);
+    const Eigen::Vector3d axes[4] = {t1, t2, (t1 + t2).normalized(), (t1 - t2).normalized()};
+    std::vector<int> chosen;
+    auto choose = [&](int index) {
+      if (std::find(chosen.begin(), chosen.end(), index) == chosen.end()) chosen.push_back(index);
+    };
+    int deepest = cluster.front();
+    for (int i : cluster)
+      if (points[i].distance_m < points[deepest].distance_m) deepest = i;
+    choose(deepest);
+    for (const Eigen::Vector3d& axis : axes) {
+      int lo = cluster.front(), hi = cluster.front();
+      for (int i : cluster) {
+        if (points[i].point_B_W.dot(axis) < points[lo].point_B_W.dot(axis)) lo = i;
+        if (points[i].point_B_W.dot(axis) > points[hi].point_B_W.dot(axis)) hi = i;
+      }
+      choose(lo);
+      choose(hi);
+    }
+    for (int i : chosen) {
+      if (static_cast<int>(kept.size()) >= limit) break;
+      kept.push_back(points[i]);
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 World::World(WorldOptions options) : options_(std::move(options)) {}
@@ -94,7 +145,7 @@ void World::set_kinematic_state(double t_s, double h_s) {
   }
 }
 
-std::vector<Contact> World::gather_contacts(const std::map<std::pair<int, int>, double>& impacts) const {
+std::vector<Contact> World::gather_contacts(const ImpactMap& impacts) const {
   const double tolerance = options_.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(bodies_.size());
@@ -102,23 +153,36 @@ std::vector<Contact> World::gather_contacts(const std::map<std::pair<int, int>, 
     boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
   std::vector<Contact> contacts;
   auto add = [&](int i, int j, double reach) {
-    for (const auto& feature : collision::contact_manifold(bodies_[i].shape, bodies_[i].X_WB, bodies_[j].shape,
-                                                           bodies_[j].X_WB, reach))
-      contacts.push_back({i, j, feature, 0.0});
+    const auto features = reduce_manifold(
+        collision::contact_manifold(bodies_[i].shape, bodies_[i].X_WB, bodies_[j].shape, bodies_[j].X_WB, reach),
+        options_.max_contacts_per_pair);
+    for (const auto& feature : features) contacts.push_back({i, j, feature, 0.0});
   };
   for (const auto& [i, j] : collision::overlapping_pairs(boxes)) {
     const RigidBody& a = bodies_[i];
     const RigidBody& b = bodies_[j];
     if (!a.is_dynamic() && !b.is_dynamic()) continue;
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
-    if (!impacts.count({i, j})) add(i, j, tolerance);
+    add(i, j, tolerance);
   }
-  // Pairs the CCD found meeting within the step: every feature they can reach.
-  for (const auto& [pair, reach] : impacts) add(pair.first, pair.second, std::max(reach, tolerance));
+  // Where the CCD found pairs meeting within the step: the material points that meet
+  // (fixed in each body at the time of impact) and the normal there, at the current poses.
+  for (const auto& [pair, hits] : impacts) {
+    const RigidBody& a = bodies_[pair.first];
+    const RigidBody& b = bodies_[pair.second];
+    for (const ImpactPoint& hit : hits) {
+      collision::ManifoldPoint p;
+      p.point_A_W = a.X_WB * hit.point_A_B;
+      p.point_B_W = b.X_WB * hit.point_B_B;
+      p.normal_W = a.X_WB.linear() * hit.normal_A_B;
+      p.distance_m = p.normal_W.dot(p.point_B_W - p.point_A_W);
+      contacts.push_back({pair.first, pair.second, p, 0.0});
+    }
+  }
   return contacts;
 }
 
-std::vector<BodyVelocity> World::solve(double h, const std::map<std::pair<int, int>, double>& impacts,
+std::vector<BodyVelocity> World::solve(double h, const ImpactMap& impacts,
                                         StepReport& report) {
   contacts_ = gather_contacts(impacts);
   // Dynamic bodies are the unknowns, in order.
@@ -192,7 +256,7 @@ std::vector<geometry::Pose> World::candidate_poses(const std::vector<BodyVelocit
   return next;
 }
 
-double World::earliest_impact(const std::vector<geometry::Pose>& next, std::vector<std::pair<int, int>>* meeting) const {
+double World::earliest_impact(const std::vector<geometry::Pose>& next, ImpactMap* meeting) const {
   std::vector<Eigen::AlignedBox3d> swept;
   swept.reserve(bodies_.size());
   for (std::size_t i = 0; i < bodies_.size(); ++i)
@@ -209,17 +273,14 @@ double World::earliest_impact(const std::vector<geometry::Pose>& next, std::vect
     // Already overlapping at the start: the contacts (depenetration) deal with it.
     if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0) continue;
     earliest = std::min(earliest, r.time_of_impact);
-    if (meeting) meeting->emplace_back(i, j);
+    if (meeting && r.features.kind != collision::FeaturePair::kNone) {
+      // The meeting point as material points of both bodies, and A's normal there.
+      const geometry::Pose X_A = geometry::ScrewMotion(a.X_WB, next[i]).pose_at(r.time_of_impact);
+      const geometry::Pose X_B = geometry::ScrewMotion(b.X_WB, next[j]).pose_at(r.time_of_impact);
+      (*meeting)[{i, j}].push_back({X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W});
+    }
   }
   return earliest;
-}
-
-double World::reach_m(int i, const std::vector<BodyVelocity>& u, const std::vector<int>& unknown, double h) const {
-  const RigidBody& body = bodies_[i];
-  if (!std::isfinite(radius_m_[i])) return 0;
-  Eigen::Vector3d v = body.v_WC_m_s, w = body.w_W_rad_s;
-  if (unknown[i] >= 0) v = u[unknown[i]].v_WC_m_s, w = u[unknown[i]].w_W_rad_s;
-  return (v.norm() + w.norm() * (radius_m_[i] + (body.com_W() - body.X_WB.translation()).norm())) * h;
 }
 
 StepReport World::step(double dt_s) {
@@ -227,9 +288,6 @@ StepReport World::step(double dt_s) {
   StepReport report;
   double elapsed = 0;
   const double end = time_s_ + dt_s;
-  std::vector<int> unknown(bodies_.size(), -1);
-  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i)
-    if (bodies_[i].is_dynamic()) unknown[i] = static_cast<int>(k++);
   while (dt_s - elapsed > 1e-12 * dt_s) {
     double h = dt_s - elapsed;
     set_kinematic_state(time_s_ + elapsed, h);
@@ -237,23 +295,17 @@ StepReport World::step(double dt_s) {
     // that do join the constraints with every feature they can reach, and the step is
     // solved again: the impact is then a constraint of this step (its bounce a velocity
     // update at the step boundary), and nothing ends up inside anything.
-    std::map<std::pair<int, int>, double> impacts;
+    ImpactMap impacts;
     std::vector<BodyVelocity> u = solve(h, impacts, report);
     std::vector<geometry::Pose> next = candidate_poses(u, elapsed, h);
     double tau = 1.0;
-    for (int round = 0; round < 3; ++round) {
-      std::vector<std::pair<int, int>> meeting;
+    for (int round = 0;; ++round) {
+      ImpactMap meeting;
       tau = earliest_impact(next, &meeting);
       if (tau >= 1.0) break;
-      ++report.events;
-      bool grew = false;
-      for (const auto& pair : meeting) {
-        const double reach = 2 * (reach_m(pair.first, u, unknown, h) + reach_m(pair.second, u, unknown, h)) +
-                             options_.contact_tolerance_m;
-        double& known = impacts[pair];
-        if (reach > known) known = reach, grew = true;
-      }
-      if (!grew) break;
+      ++report.impacts_resolved;
+      if (round == 3) break;
+      for (auto& [pair, hits] : meeting) impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
       u = solve(h, impacts, report);
       next = candidate_poses(u, elapsed, h);
     }
@@ -261,7 +313,7 @@ StepReport World::step(double dt_s) {
       // Still meeting (a turning body whose constraints were linearised): stop at the
       // impact, with the velocities of the step, and go on from there.
       h *= tau;
-      if (report.events >= options_.max_events_per_step) report.events_capped = true;
+      if (++report.events >= options_.max_events_per_step) report.events_capped = true;
     }
     for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
       RigidBody& body = bodies_[i];

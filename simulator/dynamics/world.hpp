@@ -6,9 +6,9 @@
 //   3. Gauss's principle at the velocity level (contact_solver.hpp): resting contacts
 //      may close to contact_gap_m but not further, approaching ones bounce with their
 //      restitution;
-//   4. the bodies' screw motions to their candidate poses are checked by CCD; a pair
-//      found meeting inside the step joins the constraints with every feature it can
-//      reach and 3 is solved again, so the impact (with its restitution) happens in
+//   4. the bodies' screw motions to their candidate poses are checked by CCD; the point
+//      where a pair meets inside the step (fixed in both bodies, with its normal)
+//      joins the constraints and 3 is solved again, up to three rounds, so the impact (with its restitution) happens in
 //      this step; if the CCD still finds a meeting (linearised constraints of a
 //      turning body), the step stops at that time of impact and continues from it, at
 //      most max_events_per_step times.
@@ -40,8 +40,19 @@ struct WorldOptions {
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
+  // A body pair's contact set is reduced to at most this many points when larger (per
+  // normal direction: the deepest point and the extremes of the contact patch), which
+  // keeps its support polygon: a bunny resting on a table touches with hundreds of
+  // vertices that say no more than eight well-chosen ones.
+  int max_contacts_per_pair = 16;
   ContactSolverOptions solver;
-  collision::ContinuousOptions ccd;
+  // CCD settings; its work budget bounds a step's cost when meshes have sunk into each
+  // other (the step is then cut where the CCD stopped, never past a contact).
+  collision::ContinuousOptions ccd = [] {
+    collision::ContinuousOptions o;
+    o.max_triangle_pairs = 2000;
+    return o;
+  }();
 };
 
 struct Contact {
@@ -51,7 +62,8 @@ struct Contact {
 };
 
 struct StepReport {
-  int events = 0;               // times of impact handled inside the step
+  int impacts_resolved = 0;     // meetings found by the CCD and made constraints of the step
+  int events = 0;               // times the step was cut at a time of impact
   bool events_capped = false;   // the step ended at an impact (time kept, motion dropped)
   int contacts = 0;             // constraints in the last solve of the step
   bool infeasible = false;      // a body squeezed between non-dynamic ones
@@ -59,6 +71,13 @@ struct StepReport {
   double max_penetration_m = 0; // deepest overlap among the contacts (0: none)
   int solver_iterations = 0;
 };
+
+// A meeting the CCD found inside a step: the point, fixed in each body, and A's normal
+// there (body frames), for a constraint of the re-solved step.
+struct ImpactPoint {
+  Eigen::Vector3d point_A_B, point_B_B, normal_A_B;
+};
+using ImpactMap = std::map<std::pair<int, int>, std::vector<ImpactPoint>>;
 
 class World {
  public:
@@ -80,19 +99,16 @@ class World {
   WorldOptions& options() { return options_; }
 
  private:
-  // Contacts within contact_tolerance_m, and for the pairs in `impacts` (found meeting
-  // by the CCD) every feature within their reach.
-  std::vector<Contact> gather_contacts(const std::map<std::pair<int, int>, double>& impacts) const;
+  // Contacts within contact_tolerance_m, and the meetings the CCD found in the step.
+  std::vector<Contact> gather_contacts(const ImpactMap& impacts) const;
   // Solves the contacts for the time h left in the step, from the current velocities;
   // returns the velocities to move with.
-  std::vector<BodyVelocity> solve(double h, const std::map<std::pair<int, int>, double>& impacts, StepReport& report);
-  // How far body i's points can move in h with the velocities u (or its own).
-  double reach_m(int i, const std::vector<BodyVelocity>& u, const std::vector<int>& unknown, double h) const;
+  std::vector<BodyVelocity> solve(double h, const ImpactMap& impacts, StepReport& report);
   // Where the bodies would be after h from now (elapsed into the step) with velocities u.
   std::vector<geometry::Pose> candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const;
   // Earliest time of impact (fraction of h) of the motions from the current poses to
   // `next`, or 1.
-  double earliest_impact(const std::vector<geometry::Pose>& next, std::vector<std::pair<int, int>>* meeting) const;
+  double earliest_impact(const std::vector<geometry::Pose>& next, ImpactMap* meeting) const;
   // Kinematic bodies to their trajectory pose at t_s, moving as they will over the
   // next h_s (h_s = 0: their instantaneous twist).
   void set_kinematic_state(double t_s, double h_s);

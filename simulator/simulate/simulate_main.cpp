@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   auto last_progress = start;
   for (long k = 0; k < steps; ++k) {
     const dynamics::StepReport report = world.step(dt_s);
-    events += report.events;
+    events += report.events + report.impacts_resolved;
     capped += report.events_capped;
     infeasible += report.infeasible;
     deepest = std::max(deepest, report.max_penetration_m);
