@@ -15,23 +15,14 @@
 
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
+#include "tests/support/spawn_process.hpp"
 #include "lcmtypes/msg/clock.hpp"
-
-extern char** environ;
 
 namespace {
 
 // A port of its own so parallel test runs and a live pipeline do not mix.
 const std::string kUrl = "udpm://239.255.76.67:7991?ttl=0";
 
-pid_t spawn(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  return pid;
-}
 
 bool multicast_available() {
   lcm::LCM probe(kUrl);
@@ -42,7 +33,7 @@ TEST(LcmLogger, RecordsOurTypesAndTheyDecodeFromTheLog) {
   if (!multicast_available()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
   const std::string log_path = ::testing::TempDir() + "arphys_logger_test.lcmlog";
   std::filesystem::remove(log_path);
-  const pid_t logger = spawn({"lcm-logger", "-q", "-f", "--lcm-url=" + kUrl, "-c", "ARPHYS_TEST_.*", log_path});
+  const pid_t logger = arphys::testing::spawn_process({"lcm-logger", "-q", "-f", "--lcm-url=" + kUrl, "-c", "ARPHYS_TEST_.*", log_path});
   ASSERT_GT(logger, 0) << "could not start lcm-logger (apt-get install liblcm-bin)";
 
   arphys::msg::Bus bus(kUrl);

@@ -13,23 +13,14 @@
 #include "arphys/process_status_t.hpp"
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
+#include "tests/support/spawn_process.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
-
-extern char** environ;
 
 namespace {
 
 const std::string kUrl = "udpm://239.255.76.67:7992?ttl=0";
 
-pid_t spawn(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-  return pid;
-}
 
 arphys::object_poses_t box_frame(int64_t utime, int64_t seq, double x) {
   arphys::object_poses_t m{};
@@ -62,7 +53,7 @@ TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
                                                                  const std::string&) { states.push_back(m); });
   bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
                                                                const std::string&) { statuses.push_back(m); });
-  const pid_t sim = spawn({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
+  const pid_t sim = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
                            std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kUrl,
                            "--clock", "messages", "--duration", "20"});
   ASSERT_GT(sim, 0);

@@ -1,0 +1,29 @@
+# Charts of the dynamics benchmark (called by run_benchmarks.sh with drop and outdir).
+set datafile separator ','
+set terminal pngcairo size 900,600 font ',11'
+engines = "arphys arphys-iterative bullet ode-step ode-quick mujoco-newton mujoco-pgs mujoco-cg"
+rows(e, mu) = sprintf("< awk -F, '$1 == \"%s\" && $3 == %s' '%s'", e, mu, drop)
+
+# 1. Time per step against the number of boxes (frictionless and with friction 0.5).
+set output outdir.'/dyn_drop_timing.png'
+set multiplot layout 1,2 title "N boxes dropped on a plane, dt = 1 ms: median time per step"
+set logscale xy
+set xlabel 'boxes'
+set ylabel 'ms per step (log)'
+set grid
+set key top left font ',8'
+set title 'frictionless'
+plot for [e in engines] rows(e, "0") using 2:4 with linespoints lw 2 title e
+set title 'friction 0.5'
+plot for [e in engines] rows(e, "0.5") using 2:4 with linespoints lw 2 title e
+unset multiplot
+
+# 2. Accuracy against speed: the deepest box-corner penetration of the plane against
+#    time per step, all N and frictions (arphys at 0: drawn at the 1e-4 mm floor).
+set output outdir.'/dyn_accuracy_speed.png'
+set title "Penetration against speed (drop scenes, all N, with and without friction)"
+set xlabel 'median ms per step (log)'
+set ylabel 'deepest penetration, mm (log; 0 drawn at 1e-4)'
+set key outside right
+floor_mm(x) = (x > 1e-4 ? x : 1e-4)
+plot for [e in engines] sprintf("< awk -F, '$1 == \"%s\"' '%s'", e, drop) using 4:(floor_mm($5)) with points pt 7 ps 1.4 title e
