@@ -36,7 +36,7 @@ struct WorldOptions {
   double contact_gap_m = 1e-6;
   // Speed at which an overlap (a tracked body pushed into a virtual one faster than it
   // could move) is undone; bounded so nothing is launched.
-  double max_depenetration_speed_m_s = 0.5;
+  double max_depenetration_speed_m_s = 0.05;
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
