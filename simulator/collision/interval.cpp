@@ -33,17 +33,6 @@ Interval periodic_enclosure(const Interval& angle, double (*f)(double), double m
 Interval cos(const Interval& angle) { return periodic_enclosure(angle, static_cast<double (*)(double)>(std::cos), 0.0); }
 Interval sin(const Interval& angle) { return periodic_enclosure(angle, static_cast<double (*)(double)>(std::sin), M_PI_2); }
 
-MidRadMatrix MidRadMatrix::from(const IMat3& m) {
-  MidRadMatrix out;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      const Interval& x = m.m[i][j];
-      out.mid(i, j) = x.mid();
-      out.rad(i, j) = interval_detail::up(std::max(x.hi - out.mid(i, j), out.mid(i, j) - x.lo));
-    }
-  return out;
-}
-
 MidRadVector MidRadVector::from(const IVec3& v) {
   MidRadVector out;
   for (int i = 0; i < 3; ++i) {

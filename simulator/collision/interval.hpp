@@ -163,7 +163,6 @@ inline IMat3 operator*(const Eigen::Matrix3d& A, const IMat3& B) {
 // for lies within `rad` (componentwise, rounded up) of `mid`.
 struct MidRadMatrix {
   Eigen::Matrix3d mid, rad;
-  static MidRadMatrix from(const IMat3& m);
   IMat3 to_interval() const;
 };
 struct MidRadVector {

@@ -53,18 +53,10 @@ Interval ScrewEnclosure::C_over(const Interval& T) const {
 }
 
 IVec3 ScrewEnclosure::point_over(const Eigen::Vector3d& y, const Interval& T) const {
-  return point_over(y, terms_over(T));
-}
-
-IVec3 ScrewEnclosure::point_over(const Eigen::Vector3d& y, const Terms& terms) const {
   const Eigen::Vector3d along = axial_ * axis_;
-  if (angle_ == 0) return (terms.T * (along - k_)) + y;
+  if (angle_ == 0) return (T * (along - k_)) + y;
   const Eigen::Vector3d v = angle_ * axis_.cross(y) - k_;
-  return terms.S * v + terms.C * axis_.cross(v) + terms.T * along + y;
-}
-
-double ScrewEnclosure::speed_at(const Eigen::Vector3d& x) const {
-  return std::sqrt((angle_ * axis_.cross(x) - k_).squaredNorm() + axial_ * axial_);
+  return S_over(T) * v + C_over(T) * axis_.cross(v) + T * along + y;
 }
 
 Eigen::Matrix3d ScrewEnclosure::rotation_at(double t) const {
@@ -72,13 +64,11 @@ Eigen::Matrix3d ScrewEnclosure::rotation_at(double t) const {
   return Eigen::AngleAxisd(angle_ * t, axis_).toRotationMatrix();
 }
 
-IMat3 ScrewEnclosure::rotation_over(const Interval& T) const { return rotation_over(terms_over(T)); }
-
-IMat3 ScrewEnclosure::rotation_over(const Terms& terms) const {
+IMat3 ScrewEnclosure::rotation_over(const Interval& T) const {
   if (angle_ == 0) return IMat3::point(Eigen::Matrix3d::Identity());
   // R = I + sin(wt) K + (1 - cos(wt)) K^2, with sin(wt) = w S and 1 - cos(wt) = w C.
-  const Interval sin_wt = angle_ * terms.S;
-  const Interval one_minus_cos = angle_ * terms.C;
+  const Interval sin_wt = angle_ * S_over(T);
+  const Interval one_minus_cos = angle_ * C_over(T);
   const Eigen::Matrix3d K = skew(axis_), K2 = K * K;
   IMat3 R;
   for (int i = 0; i < 3; ++i)
@@ -121,28 +111,6 @@ IVec3 RelativeMotion::point_over(const Eigen::Vector3d& p_B, const Interval& T) 
 
 Eigen::Matrix3d RelativeMotion::rotation_at(double t) const {
   return a_.rotation_at(t).transpose() * b_.rotation_at(t) * X_FB_.linear();
-}
-
-RelativeMotion::Terms RelativeMotion::terms_over(const Interval& T) const {
-  Terms terms;
-  terms.a = a_.terms_over(T);
-  terms.b = b_.terms_over(T);
-  const IMat3 rb = b_.rotation_over(terms.b) * Eigen::Matrix3d(X_FB_.linear());
-  if (a_.rotates()) {
-    terms.R_a_T = a_.rotation_over(terms.a).transpose();
-    terms.R_AB = terms.R_a_T * rb;
-  } else {
-    terms.R_AB = rb;
-  }
-  terms.origin_a = a_.point_over(Eigen::Vector3d::Zero(), terms.a);
-  return terms;
-}
-
-IVec3 RelativeMotion::point_over(const Eigen::Vector3d& p_B, const Terms& terms) const {
-  const IVec3 z = b_.point_over(X_FB_ * p_B, terms.b);
-  if (a_.is_identity()) return z;
-  if (!a_.rotates()) return z - terms.origin_a;
-  return terms.R_a_T * (z - terms.origin_a);
 }
 
 namespace {
@@ -224,10 +192,5 @@ MovingPoint RelativeMotion::moving_point(const Eigen::Vector3d& p_B, const Snaps
   return out;
 }
 
-IMat3 RelativeMotion::rotation_over(const Interval& T) const {
-  const IMat3 rb = b_.rotation_over(T) * Eigen::Matrix3d(X_FB_.linear());
-  if (!a_.rotates()) return rb;
-  return a_.rotation_over(T).transpose() * rb;
-}
 
 }  // namespace arphys::collision

@@ -42,17 +42,6 @@ class ScrewEnclosure {
   bool is_identity() const { return angle_ == 0 && axial_ == 0 && k_.isZero(0); }
   bool rotates() const { return angle_ != 0; }
 
-  // The time-dependent factors of D(t) enclosed over a time interval T, computed once
-  // and shared by every point evaluated over T.
-  struct Terms {
-    Interval T, S, C;
-  };
-  Terms terms_over(const Interval& T) const { return {T, S_over(T), C_over(T)}; }
-  IVec3 point_over(const Eigen::Vector3d& y, const Terms& terms) const;
-  IMat3 rotation_over(const Terms& terms) const;
-
-  // Speed (metres per unit t) of the body point at x: constant along its path.
-  double speed_at(const Eigen::Vector3d& x) const;
   double angle_rad() const { return angle_; }
   // The screw's velocity field v(x) = omega x x + linear, constant in frame F.
   Eigen::Vector3d omega() const { return angle_ * axis_; }
@@ -70,6 +59,7 @@ class ScrewEnclosure {
   Eigen::Vector3d inverse_point_at(const Eigen::Vector3d& z, double t) const;
 
  private:
+  // sin(w t) / w and (1 - cos(w t)) / w enclosed over T.
   Interval S_over(const Interval& T) const;
   Interval C_over(const Interval& T) const;
 
@@ -87,22 +77,11 @@ class RelativeMotion {
  public:
   RelativeMotion(const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B);
 
-  // Everything that depends on T only, for evaluating many points over the same T.
-  struct Terms {
-    ScrewEnclosure::Terms a, b;
-    IMat3 R_a_T;    // A's rotation over T, transposed (unused when A does not rotate)
-    IVec3 origin_a; // A's displacement of the origin over T
-    IMat3 R_AB;     // B's rotation in A's frame over T
-  };
-  Terms terms_over(const Interval& T) const;
-  IVec3 point_over(const Eigen::Vector3d& p_B, const Terms& terms) const;
-
-  // Centered enclosures over T (midpoint-radius): the value at T's midpoint and a
-  // radius from a bound on the speed, |p(t) - p(tm)| <= max|p'| |t - tm| (a chord is
-  // never longer than its arc). First-order tight and much cheaper than the natural
-  // interval extension; the radius covers the rounding of the midpoint value.
-  // What every point of B shares over T, computed once (the trigonometry): the
-  // relative pose at T's midpoint and the rotation enclosure.
+  // Centered (mean-value) enclosures over T, what the CCD uses: the value at T's
+  // midpoint, the velocity there and a bound on its change (MovingPoint), first-order
+  // tight and much cheaper than the natural interval extension below. A Snapshot holds
+  // what every point of B shares over T, computed once (the trigonometry): the relative
+  // pose at T's midpoint and the rotation enclosure.
   struct Snapshot {
     Interval T;
     double tm = 0, h = 0;
@@ -120,15 +99,12 @@ class RelativeMotion {
   MidRadVector point_ball(const Eigen::Vector3d& p_B, const Interval& T) const { return moving_point(p_B, T).ball(); }
   MidRadMatrix rotation_ball(const Interval& T) const { return snapshot(T).R_AB; }
 
-  // X_AB(t) applied to p_B.
+  // X_AB(t) applied to p_B, and its natural interval extension over T (the tests'
+  // independent second enclosure of the same motion).
   Eigen::Vector3d point_at(const Eigen::Vector3d& p_B, double t) const;
   IVec3 point_over(const Eigen::Vector3d& p_B, const Interval& T) const;
-  // R_AB(t) and its enclosure.
+  // R_AB(t).
   Eigen::Matrix3d rotation_at(double t) const;
-  IMat3 rotation_over(const Interval& T) const;
-  // Transform of B's body frame into frame F = A's body frame at t = 0 (constant).
-  const geometry::Pose& X_FB() const { return X_FB_; }
-  bool both_rotate() const { return a_.rotates() && b_.rotates(); }
   // Bound on the angular speed of B relative to A (radians per unit t): |w_B - w_A|.
   double angular_speed() const { return interval_detail::up((b_.omega() - a_.omega()).norm() * (1 + 1e-12)); }
 

@@ -16,6 +16,15 @@ double sweep_radius(const MovingPoint& p) {
   return (p.half_width * (p.velocity.norm() + p.velocity_rad) + p.rounding) * (1 + 1e-12);
 }
 
+// A hit at t (kNoContact: none), point and normal for the caller to fill.
+ContinuousResult hit_at(double t) {
+  ContinuousResult result;
+  if (t == kNoContact) return result;
+  result.collides = true;
+  result.time_of_impact = t;
+  return result;
+}
+
 // Shared driver of the tree traversals against a plane or a sphere: depth first over
 // (node, time interval), earliest first, splitting time when the motion over the
 // interval (`node_may_touch` reports it through its last argument) dominates the
@@ -78,10 +87,8 @@ ContinuousResult plane_vs_mesh(const ScrewMotion& plane, const CollisionMesh& me
     }
   };
   traverse_in_time(mesh.tree(), rel, options, best, node_may_touch, leaf);
-  ContinuousResult result;
-  if (best == kNoContact) return result;
-  result.collides = true;
-  result.time_of_impact = best;
+  ContinuousResult result = hit_at(best);
+  if (!result.collides) return result;
   result.point_W = motion.pose_at(best) * mesh.mesh().vertices_m[best_vertex];
   result.normal_W = plane.pose_at(best).linear() * up;
   return result;
@@ -95,10 +102,8 @@ ContinuousResult plane_vs_sphere(const ScrewMotion& plane, double radius, const 
   const double t = first_candidate_time({0.0, 1.0}, options.time_tolerance, [&](const Interval& T) {
     return rel.moving_point(Eigen::Vector3d::Zero(), T).project(up, radius).lo <= 0;
   });
-  ContinuousResult result;
-  if (t == kNoContact) return result;
-  result.collides = true;
-  result.time_of_impact = t;
+  ContinuousResult result = hit_at(t);
+  if (!result.collides) return result;
   result.normal_W = plane.pose_at(t).linear() * up;
   result.point_W = motion.pose_at(t).translation() - radius * result.normal_W;
   return result;
@@ -131,10 +136,8 @@ ContinuousResult mesh_vs_sphere(const CollisionMesh& mesh, const ScrewMotion& mo
     if (t < best) best = t, best_triangle = triangle;
   };
   traverse_in_time(mesh.tree(), rel, options, best, node_may_touch, leaf);
-  ContinuousResult result;
-  if (best == kNoContact) return result;
-  result.collides = true;
-  result.time_of_impact = best;
+  ContinuousResult result = hit_at(best);
+  if (!result.collides) return result;
   Eigen::Vector3d a[3];
   mesh.corners(best_triangle, a);
   const geometry::Pose X_W_mesh = motion_mesh.pose_at(best);
@@ -154,10 +157,8 @@ ContinuousResult sphere_vs_sphere(double radius_A, const ScrewMotion& motion_A, 
     const MovingPoint c = rel.moving_point(Eigen::Vector3d::Zero(), T);
     return c.mid.norm() * (1 - 1e-12) - sweep_radius(c) <= reach;
   });
-  ContinuousResult result;
-  if (t == kNoContact) return result;
-  result.collides = true;
-  result.time_of_impact = t;
+  ContinuousResult result = hit_at(t);
+  if (!result.collides) return result;
   const Eigen::Vector3d a = motion_A.pose_at(t).translation(), b = motion_B.pose_at(t).translation();
   result.normal_W = (b - a).norm() > 0 ? (b - a).normalized() : Eigen::Vector3d::UnitZ();
   result.point_W = a + radius_A * result.normal_W;

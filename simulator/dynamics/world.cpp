@@ -145,7 +145,7 @@ void World::set_kinematic_state(double t_s, double h_s) {
   }
 }
 
-std::vector<Contact> World::gather_contacts(const ImpactMap& impacts) const {
+std::vector<Contact> World::gather_contacts() const {
   const double tolerance = options_.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(bodies_.size());
@@ -165,8 +165,13 @@ std::vector<Contact> World::gather_contacts(const ImpactMap& impacts) const {
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
     add(i, j, tolerance);
   }
+  return contacts;
+}
+
+std::vector<Contact> World::impact_contacts(const ImpactMap& impacts) const {
   // Where the CCD found pairs meeting within the step: the material points that meet
   // (fixed in each body at the time of impact) and the normal there, at the current poses.
+  std::vector<Contact> contacts;
   for (const auto& [pair, hits] : impacts) {
     const RigidBody& a = bodies_[pair.first];
     const RigidBody& b = bodies_[pair.second];
@@ -182,9 +187,11 @@ std::vector<Contact> World::gather_contacts(const ImpactMap& impacts) const {
   return contacts;
 }
 
-std::vector<BodyVelocity> World::solve(double h, const ImpactMap& impacts,
+std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& resting, const ImpactMap& impacts,
                                         StepReport& report) {
-  contacts_ = gather_contacts(impacts);
+  contacts_ = resting;
+  const std::vector<Contact> meeting = impact_contacts(impacts);
+  contacts_.insert(contacts_.end(), meeting.begin(), meeting.end());
   // Dynamic bodies are the unknowns, in order.
   std::vector<int> unknown(bodies_.size(), -1);
   std::vector<BodyInertia> inertia;
@@ -310,7 +317,9 @@ StepReport World::step(double dt_s) {
     // solved again: the impact is then a constraint of this step (its bounce a velocity
     // update at the step boundary), and nothing ends up inside anything.
     ImpactMap impacts;
-    std::vector<BodyVelocity> u = solve(h, impacts, report);
+    // The poses do not change while the step is re-solved: the contacts are found once.
+    const std::vector<Contact> resting = gather_contacts();
+    std::vector<BodyVelocity> u = solve(h, resting, impacts, report);
     std::vector<geometry::Pose> next = candidate_poses(u, elapsed, h);
     double tau = 1.0;
     for (int round = 0;; ++round) {
@@ -320,7 +329,7 @@ StepReport World::step(double dt_s) {
       ++report.impacts_resolved;
       if (round == 3) break;
       for (auto& [pair, hits] : meeting) impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
-      u = solve(h, impacts, report);
+      u = solve(h, resting, impacts, report);
       next = candidate_poses(u, elapsed, h);
     }
     if (tau < 1.0) {

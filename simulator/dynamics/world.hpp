@@ -96,14 +96,16 @@ class World {
   void remove_body(int index);
   const std::vector<Contact>& contacts() const { return contacts_; }
   const WorldOptions& options() const { return options_; }
-  WorldOptions& options() { return options_; }
 
  private:
-  // Contacts within contact_tolerance_m, and the meetings the CCD found in the step.
-  std::vector<Contact> gather_contacts(const ImpactMap& impacts) const;
-  // Solves the contacts for the time h left in the step, from the current velocities;
-  // returns the velocities to move with.
-  std::vector<BodyVelocity> solve(double h, const ImpactMap& impacts, StepReport& report);
+  // Contacts within contact_tolerance_m at the current poses.
+  std::vector<Contact> gather_contacts() const;
+  // The meetings the CCD found in the step, as contacts at the current poses.
+  std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
+  // Solves the resting and impact contacts for the time h left in the step, from the
+  // current velocities; returns the velocities to move with.
+  std::vector<BodyVelocity> solve(double h, const std::vector<Contact>& resting, const ImpactMap& impacts,
+                                  StepReport& report);
   // Where the bodies would be after h from now (elapsed into the step) with velocities u.
   std::vector<geometry::Pose> candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const;
   // Earliest time of impact (fraction of h) of the motions from the current poses to

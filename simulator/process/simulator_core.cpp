@@ -9,8 +9,8 @@
 namespace arphys::sim {
 
 SimulatorCore::SimulatorCore(config::SceneConfig scene, CoreOptions options)
-    : scene_(std::move(scene)), options_(options), world_(dynamics::build_world(scene_)) {
-  reset();
+    : scene_(std::move(scene)), options_(options) {
+  reset();  // builds the world
 }
 
 void SimulatorCore::reset() {

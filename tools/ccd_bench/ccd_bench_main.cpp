@@ -264,8 +264,7 @@ int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const Sw
 // -z, travelling `ratio` times (plate thickness + cube side) per step, with a random
 // lateral offset and orientation, spinning 5 degrees about its flight line: every
 // flight crosses the plate, so any "no hit" is a missed collision.
-int run_tunnelling(const std::vector<Method>& methods, Bodies& bodies, int flights, unsigned seed,
-                   const std::string& csv_path) {
+int run_tunnelling(const std::vector<Method>& methods, int flights, unsigned seed, const std::string& csv_path) {
   std::ofstream csv(csv_path);
   csv << "# tunnelling: cube of side 0.01 through a 1 x 1 x 0.01 plate; " << machine_line() << "\n";
   csv << "travel_over_thickness,method,miss_rate,median_us\n";
@@ -308,7 +307,6 @@ int run_tunnelling(const std::vector<Method>& methods, Bodies& bodies, int fligh
     }
     std::printf("\n");
   }
-  (void)bodies;
   return 0;
 }
 
@@ -352,7 +350,7 @@ int main(int argc, char** argv) {
     bodies.mesh_a = geometry::make_box_mesh({1, 1, 0.01});
     bodies.mesh_b = geometry::make_box_mesh({0.01, 0.01, 0.01});
     bodies.build();
-    return run_tunnelling(make_methods(bodies, with_fcl, false), bodies, flights, sweep.seed, sweep.csv_path);
+    return run_tunnelling(make_methods(bodies, with_fcl, false), flights, sweep.seed, sweep.csv_path);
   }
   if (mesh_b_path.empty()) mesh_b_path = mesh_a_path;
   bodies.mesh_a = geometry::load_mesh(mesh_a_path);
