@@ -9,7 +9,7 @@ build=(
   build-essential cmake pkg-config git
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev   # LCM 1.3.1; lcm.pc needs glib
   default-jdk-headless                               # javac/jar for the lcm-spy jar of our types
-  libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev
+  libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev nlohmann-json3-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2)

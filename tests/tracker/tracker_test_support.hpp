@@ -1,0 +1,35 @@
+#pragma once
+// Shared fixtures of the tracker tests: a 640x480 pinhole camera and markers rendered
+// at known poses (tracker/synthetic), so every figure is checked against exact truth.
+#include <cmath>
+
+#include "tracker/detection/marker_detector.hpp"
+#include "tracker/synthetic/marker_image_renderer.hpp"
+
+namespace arphys::tracking::testing {
+
+inline CameraModel test_camera() {
+  CameraModel camera;
+  camera.width_px = 640;
+  camera.height_px = 480;
+  camera.K = cv::Matx33d(600, 0, 319.5, 0, 600, 239.5, 0, 0, 1);
+  return camera;
+}
+
+inline double degrees(double rad) { return rad * 180.0 / M_PI; }
+
+// Largest corner distance between a detection and the truth, pixels.
+inline double max_corner_error_px(const DetectedMarker& d, const std::array<Eigen::Vector2d, 4>& truth) {
+  double worst = 0;
+  for (int k = 0; k < 4; ++k) worst = std::max(worst, (d.corners_px[k] - truth[k]).norm());
+  return worst;
+}
+
+inline const DetectedMarker* find_marker(const std::vector<DetectedMarker>& markers, int id) {
+  for (const auto& m : markers) {
+    if (m.id == id) return &m;
+  }
+  return nullptr;
+}
+
+}  // namespace arphys::tracking::testing

@@ -1,0 +1,198 @@
+#include "tracker/detection/apriltag_detector.hpp"
+
+#include <apriltag/apriltag.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "tracker/detection/param_parsing.hpp"
+
+namespace arphys::tracking {
+
+namespace {
+
+apriltag_detector_t* create_detector(std::vector<AprilTagFamilyHandle>& families, const std::vector<std::string>& names) {
+  apriltag_detector_t* detector = apriltag_detector_create();
+  for (const auto& name : names) {
+    families.emplace_back(name);
+    apriltag_detector_add_family_bits(detector, families.back().get(), 2);
+  }
+  detector->nthreads = 1;
+  detector->quad_decimate = 2.0f;
+  detector->quad_sigma = 0.0f;
+  detector->refine_edges = true;
+  detector->decode_sharpening = 0.25;
+  return detector;
+}
+
+cv::Rect marker_bounds(const DetectedMarker& m) {
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (const auto& c : m.corners_px) {
+    x0 = std::min(x0, c.x());
+    y0 = std::min(y0, c.y());
+    x1 = std::max(x1, c.x());
+    y1 = std::max(y1, c.y());
+  }
+  return cv::Rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
+                  cv::Point(static_cast<int>(std::ceil(x1)) + 1, static_cast<int>(std::ceil(y1)) + 1));
+}
+
+bool same_marker(const DetectedMarker& a, const DetectedMarker& b) { return a.id == b.id && a.family == b.family; }
+
+}  // namespace
+
+AprilTagDetector::AprilTagDetector(const std::vector<std::string>& families) {
+  if (families.empty()) throw std::invalid_argument("AprilTagDetector: no marker family given");
+  detector_ = create_detector(families_, families);
+}
+
+AprilTagDetector::~AprilTagDetector() {
+  if (detector_) apriltag_detector_destroy(detector_);
+  if (fine_detector_) apriltag_detector_destroy(fine_detector_);
+}
+
+std::vector<std::string> AprilTagDetector::families() const {
+  std::vector<std::string> names;
+  for (const auto& f : families_) names.push_back(f.name());
+  return names;
+}
+
+std::string AprilTagDetector::describe() const {
+  std::ostringstream out;
+  out << "apriltag families=";
+  for (size_t i = 0; i < families_.size(); ++i) out << (i ? "," : "") << families_[i].name();
+  out << " decimate=" << decimate_ << " sigma=" << detector_->quad_sigma << " refine_edges=" << detector_->refine_edges
+      << " threads=" << detector_->nthreads;
+  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << scan_tiles_;
+  return out.str();
+}
+
+void AprilTagDetector::set_param(const std::string& name, const std::string& value) {
+  if (name == "decimate") {
+    decimate_ = parse_param_double(name, value, 1.0, 8.0);
+    if (!roi_tracking_) detector_->quad_decimate = static_cast<float>(decimate_);
+  } else if (name == "sigma") {
+    detector_->quad_sigma = static_cast<float>(parse_param_double(name, value, 0.0, 10.0));
+  } else if (name == "refine_edges") {
+    detector_->refine_edges = parse_param_bool(name, value);
+  } else if (name == "sharpening") {
+    detector_->decode_sharpening = parse_param_double(name, value, 0.0, 10.0);
+  } else if (name == "threads") {
+    detector_->nthreads = parse_param_int(name, value, 1, 64);
+  } else if (name == "max_hamming") {
+    const int bits = parse_param_int(name, value, 0, 2);
+    apriltag_detector_clear_families(detector_);
+    for (auto& f : families_) apriltag_detector_add_family_bits(detector_, f.get(), bits);
+  } else if (name == "roi_tracking") {
+    roi_tracking_ = parse_param_bool(name, value);
+    detector_->quad_decimate = static_cast<float>(roi_tracking_ ? coarse_decimate_ : decimate_);
+    previous_.clear();
+  } else if (name == "coarse_decimate") {
+    coarse_decimate_ = parse_param_double(name, value, 1.0, 8.0);
+    if (roi_tracking_) detector_->quad_decimate = static_cast<float>(coarse_decimate_);
+  } else if (name == "scan_tiles") {
+    scan_tiles_ = parse_param_int(name, value, 0, 256);
+  } else {
+    throw std::invalid_argument("apriltag has no parameter '" + name +
+                                "' (expected decimate, sigma, refine_edges, sharpening, threads, max_hamming, "
+                                "roi_tracking, coarse_decimate, scan_tiles)");
+  }
+}
+
+std::vector<DetectedMarker> AprilTagDetector::detect_region(apriltag_detector* detector, const cv::Mat& gray,
+                                                            const cv::Rect& region) {
+  // A view into the caller's pixels: no copy, apriltag only reads them.
+  image_u8_t image{region.width, region.height, static_cast<int32_t>(gray.step[0]),
+                   const_cast<uint8_t*>(gray.ptr<uint8_t>(region.y) + region.x)};
+  zarray_t* detections = apriltag_detector_detect(detector, &image);
+  std::vector<DetectedMarker> markers;
+  markers.reserve(zarray_size(detections));
+  for (int i = 0; i < zarray_size(detections); ++i) {
+    apriltag_detection_t* d = nullptr;
+    zarray_get(detections, i, &d);
+    DetectedMarker m;
+    m.family = d->family->name;
+    m.id = d->id;
+    for (int k = 0; k < 4; ++k) {
+      m.corners_px[k] = Eigen::Vector2d(d->p[k][0] - 0.5 + region.x, d->p[k][1] - 0.5 + region.y);
+    }
+    m.decision_margin = d->decision_margin;
+    m.hamming = d->hamming;
+    markers.push_back(std::move(m));
+  }
+  apriltag_detections_destroy(detections);
+  return markers;
+}
+
+std::vector<DetectedMarker> AprilTagDetector::detect(const cv::Mat& gray) {
+  if (gray.empty() || gray.type() != CV_8UC1) {
+    throw std::invalid_argument("AprilTagDetector::detect: expected a non-empty 8-bit single-channel image");
+  }
+  if (!roi_tracking_) return detect_region(detector_, gray, cv::Rect(0, 0, gray.cols, gray.rows));
+  return detect_predictive(gray);
+}
+
+std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& gray) {
+  if (!fine_detector_) {
+    fine_detector_ = create_detector(fine_families_, families());
+    fine_detector_->quad_decimate = 1.0f;
+  }
+  fine_detector_->quad_sigma = detector_->quad_sigma;
+  fine_detector_->decode_sharpening = detector_->decode_sharpening;
+  const cv::Rect frame(0, 0, gray.cols, gray.rows);
+
+  std::vector<DetectedMarker> found = detect_region(detector_, gray, frame);
+  auto merge = [&found](std::vector<DetectedMarker>&& fine) {
+    // Full-resolution corners replace coarse ones for the same marker.
+    for (auto& m : fine) {
+      auto it = std::find_if(found.begin(), found.end(), [&](const DetectedMarker& f) { return same_marker(f, m); });
+      if (it != found.end()) {
+        *it = std::move(m);
+      } else {
+        found.push_back(std::move(m));
+      }
+    }
+  };
+
+  // Windows around last frame's markers: the marker's bounds grown by half its size
+  // (inter-frame motion) and a quiet-zone margin, merged when they overlap.
+  std::vector<cv::Rect> windows;
+  for (const auto& m : previous_) {
+    const cv::Rect b = marker_bounds(m);
+    const int grow = std::max(12, std::max(b.width, b.height) / 2);
+    cv::Rect w = cv::Rect(b.x - grow, b.y - grow, b.width + 2 * grow, b.height + 2 * grow) & frame;
+    for (auto it = windows.begin(); it != windows.end();) {
+      if ((w & *it).area() > 0) {
+        w |= *it;
+        it = windows.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    if (w.area() > 0) windows.push_back(w);
+  }
+  for (const auto& w : windows) merge(detect_region(fine_detector_, gray, w));
+
+  // One scan tile per frame at full resolution, tiles overlapping by 64 px so that a
+  // marker up to that size lies wholly inside one of them.
+  if (scan_tiles_ > 0) {
+    const int columns = static_cast<int>(std::ceil(std::sqrt(scan_tiles_ * 4.0 / 3.0)));
+    const int rows = (scan_tiles_ + columns - 1) / columns;
+    const int tile = next_tile_ % (columns * rows);
+    next_tile_ = (next_tile_ + 1) % (columns * rows);
+    const int w = (gray.cols + columns - 1) / columns, h = (gray.rows + rows - 1) / rows;
+    const int overlap = 32;
+    const cv::Rect region =
+        cv::Rect((tile % columns) * w - overlap, (tile / columns) * h - overlap, w + 2 * overlap, h + 2 * overlap) & frame;
+    merge(detect_region(fine_detector_, gray, region));
+  }
+  previous_ = found;
+  return found;
+}
+
+}  // namespace arphys::tracking

@@ -1,0 +1,134 @@
+#include "tracker/synthetic/marker_image_renderer.hpp"
+
+#include <cmath>
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+#include "tracker/detection/marker_family.hpp"
+#include "tracker/pose/marker_pose.hpp"
+
+namespace arphys::tracking {
+
+cv::Mat clutter_background(int width_px, int height_px, uint32_t seed) {
+  cv::RNG rng(seed);
+  cv::Mat image(height_px, width_px, CV_8UC1);
+  // Low-frequency shading.
+  for (int y = 0; y < height_px; ++y) {
+    for (int x = 0; x < width_px; ++x) {
+      image.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(128 + 30 * std::sin(x * 0.011 + seed) * std::cos(y * 0.013));
+    }
+  }
+  for (int i = 0; i < 60; ++i) {
+    const cv::Scalar level(rng.uniform(20, 235));
+    const cv::Point a(rng.uniform(0, width_px), rng.uniform(0, height_px));
+    switch (rng.uniform(0, 3)) {
+      case 0:
+        cv::rectangle(image, a, a + cv::Point(rng.uniform(5, 80), rng.uniform(5, 80)), level, cv::FILLED, cv::LINE_AA);
+        break;
+      case 1: cv::circle(image, a, rng.uniform(3, 40), level, cv::FILLED, cv::LINE_AA); break;
+      default:
+        cv::line(image, a, cv::Point(rng.uniform(0, width_px), rng.uniform(0, height_px)), level, rng.uniform(1, 4),
+                 cv::LINE_AA);
+    }
+  }
+  cv::GaussianBlur(image, image, cv::Size(3, 3), 0.7);
+  return image;
+}
+
+std::array<Eigen::Vector2d, 4> true_corners_px(const CameraModel& camera, const MarkerPlacement& marker) {
+  const auto corners = marker_corners_M(marker.size_m);
+  std::array<Eigen::Vector2d, 4> uv;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d p = marker.X_CM * corners[k];
+    uv[k] = Eigen::Vector2d(camera.K(0, 0) * p.x() / p.z() + camera.K(0, 2), camera.K(1, 1) * p.y() / p.z() + camera.K(1, 2));
+  }
+  return uv;
+}
+
+cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacement>& markers,
+                       const cv::Mat& background, const ImageEffects& effects, int supersample) {
+  const int S = std::max(1, supersample);
+  cv::Mat base = background.empty() ? cv::Mat(camera.height_px, camera.width_px, CV_8UC1, cv::Scalar(128)) : background;
+  CV_Assert(base.type() == CV_8UC1 && base.cols == camera.width_px && base.rows == camera.height_px);
+  cv::Mat canvas;
+  cv::resize(base, canvas, cv::Size(), S, S, cv::INTER_NEAREST);
+
+  // Canvas pixel centres sit at S * (p + 0.5) - 0.5 for image pixel coordinate p.
+  const cv::Matx33d to_canvas(S, 0, 0.5 * S - 0.5, 0, S, 0.5 * S - 0.5, 0, 0, 1);
+  for (const auto& m : markers) {
+    int black_cells = 0;
+    cv::Mat cells = marker_cells_image(m.family, m.id, &black_cells);
+    const int N = cells.cols;
+    const double cell_m = m.size_m / black_cells;
+    bool in_front = true;
+    double z_min = 1e9;
+    for (const auto& c : marker_corners_M(m.size_m * N / black_cells)) {
+      const double z = (m.X_CM * c).z();
+      in_front = in_front && z > 1e-3;
+      z_min = std::min(z_min, z);
+    }
+    if (!in_front) continue;
+    // Texture resolution near the canvas's, so bilinear sampling neither aliases nor blurs.
+    const double cell_canvas_px = S * camera.K(0, 0) * cell_m / z_min;
+    const int k = std::clamp(static_cast<int>(std::lround(cell_canvas_px)), 1, 64);
+    cv::Mat texture;
+    cv::resize(cells, texture, cv::Size(), k, k, cv::INTER_NEAREST);
+    texture.convertTo(texture, CV_8U, (effects.white - effects.black) / 255.0, effects.black);
+    // Texture pixel (u, v) -> marker plane (x, y, 1): pixel u spans [u - 0.5, u + 0.5] of
+    // the continuous texture, x increases right and y up, the centre is the origin.
+    const cv::Matx33d plane(cell_m / k, 0, (0.5 / k - N / 2.0) * cell_m, 0, -cell_m / k, (N / 2.0 - 0.5 / k) * cell_m, 0,
+                            0, 1);
+    const Eigen::Matrix3d R = m.X_CM.linear();
+    const Eigen::Vector3d t = m.X_CM.translation();
+    const cv::Matx33d Rt(R(0, 0), R(0, 1), t.x(), R(1, 0), R(1, 1), t.y(), R(2, 0), R(2, 1), t.z());
+    const cv::Matx33d H = to_canvas * camera.K * Rt * plane;
+    cv::warpPerspective(texture, canvas, cv::Mat(H), canvas.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+  }
+  cv::Mat image;
+  cv::resize(canvas, image, base.size(), 0, 0, cv::INTER_AREA);
+
+  if (effects.blur_length_px > 0.5) {
+    const int size = static_cast<int>(std::ceil(effects.blur_length_px)) | 1;
+    cv::Mat kernel = cv::Mat::zeros(size, size, CV_32F);
+    const cv::Point2d centre((size - 1) / 2.0, (size - 1) / 2.0);
+    const cv::Point2d half(std::cos(effects.blur_angle_rad) * effects.blur_length_px / 2,
+                           std::sin(effects.blur_angle_rad) * effects.blur_length_px / 2);
+    cv::line(kernel, centre - half, centre + half, cv::Scalar(1.0), 1, cv::LINE_AA);
+    kernel /= cv::sum(kernel)[0];
+    cv::filter2D(image, image, -1, kernel);
+  }
+  if (effects.noise_sigma > 0) {
+    cv::Mat noise(image.size(), CV_32F);
+    cv::RNG rng(effects.seed);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, effects.noise_sigma);
+    cv::Mat sum;
+    image.convertTo(sum, CV_32F);
+    sum += noise;
+    sum.convertTo(image, CV_8U);  // rounds and saturates
+  }
+  return image;
+}
+
+geometry::Pose marker_pose_at(const CameraModel& camera, double u_px, double v_px, double distance_m,
+                              double view_angle_rad, double tilt_axis_rad, double roll_rad) {
+  const Eigen::Vector3d ray =
+      Eigen::Vector3d((u_px - camera.K(0, 2)) / camera.K(0, 0), (v_px - camera.K(1, 2)) / camera.K(1, 1), 1.0).normalized();
+  // Frontal marker facing the camera along the ray: its z axis points back along it.
+  const Eigen::Vector3d z = -ray;
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX().dot(z) * z;
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d R_facing;
+  R_facing << x, y, z;
+  // Tilt about an axis perpendicular to the ray, then roll about the marker normal.
+  const Eigen::Vector3d tilt_axis = std::cos(tilt_axis_rad) * x + std::sin(tilt_axis_rad) * y;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(view_angle_rad, tilt_axis).toRotationMatrix() * R_facing *
+                            Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  geometry::Pose X = geometry::Pose::Identity();
+  X.linear() = R;
+  X.translation() = ray * distance_m;
+  return X;
+}
+
+}  // namespace arphys::tracking

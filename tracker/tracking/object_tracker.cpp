@@ -1,0 +1,290 @@
+#include "tracker/tracking/object_tracker.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace arphys::tracking {
+
+namespace {
+
+double seconds_between(int64_t later_utime, int64_t earlier_utime) {
+  return static_cast<double>(later_utime - earlier_utime) * 1e-6;
+}
+
+// Picks one of a single marker's two solutions: by the reprojection errors when they
+// differ clearly, else the one nearer the prediction, else the lower error.
+int choose_solution(const MarkerPoseSolutions& solutions, const std::optional<Pose>& X_CM_predicted,
+                    double ratio_threshold) {
+  if (solutions.count < 2 || solutions.ambiguity_ratio() > ratio_threshold || !X_CM_predicted) return 0;
+  const double d0 = geometry::rotation_distance_rad(solutions.X_CM[0], *X_CM_predicted);
+  const double d1 = geometry::rotation_distance_rad(solutions.X_CM[1], *X_CM_predicted);
+  return d1 < d0 ? 1 : 0;
+}
+
+Pose exp_twist(const Pose& X, const Eigen::Vector3d& v, const Eigen::Vector3d& w, double dt) {
+  Pose out = X;
+  out.translation() += v * dt;
+  const double angle = w.norm() * dt;
+  if (angle > 0) out.linear() = Eigen::AngleAxisd(angle, w.normalized()).toRotationMatrix() * X.linear();
+  return out;
+}
+
+}  // namespace
+
+const char* to_string(TrackStatus status) {
+  switch (status) {
+    case TrackStatus::kTracked: return "TRACKED";
+    case TrackStatus::kPredicted: return "PREDICTED";
+    case TrackStatus::kLost: return "LOST";
+  }
+  return "?";
+}
+
+TrackerModel TrackerModel::from_scene(const config::SceneConfig& scene, double default_marker_size_m) {
+  TrackerModel model;
+  model.default_marker_size_m = default_marker_size_m;
+  std::map<std::pair<std::string, int>, std::string> owners;
+  for (const auto& object : scene.objects) {
+    if (object.role != config::Role::kReal || object.markers.empty()) continue;
+    ObjectModel o;
+    o.id = object.id;
+    o.defines_world = object.motion == config::Motion::kStatic;
+    o.X_WO = object.X_WO;
+    for (const auto& m : object.markers) {
+      const auto key = std::make_pair(m.family, m.id);
+      if (owners.count(key)) {
+        throw std::invalid_argument(scene.file + ": marker " + m.family + " " + std::to_string(m.id) +
+                                    " is declared by both '" + owners[key] + "' and '" + object.id + "'");
+      }
+      owners[key] = object.id;
+      o.markers.push_back({m.family, m.id, m.size_m, m.X_OM});
+    }
+    model.objects.push_back(std::move(o));
+  }
+  return model;
+}
+
+const ObjectModel* TrackerModel::find(const std::string& object_id) const {
+  for (const auto& o : objects) {
+    if (o.id == object_id) return &o;
+  }
+  return nullptr;
+}
+
+ObjectTracker::ObjectTracker(TrackerModel model, CameraModel camera, TrackerOptions options)
+    : model_(std::move(model)), camera_(std::move(camera)), options_(options) {
+  for (const auto& o : model_.objects) {
+    tracks_[o.id].filter = OneEuroPoseFilter(options_.filter_params);
+    if (!o.defines_world) continue;
+    for (const auto& m : o.markers) world_markers_.push_back({m.family, m.id, m.size_m, o.X_WO * m.X_OM});
+  }
+  world_track_.filter = OneEuroPoseFilter(options_.filter_params);
+}
+
+void ObjectTracker::reset() {
+  for (auto& [id, track] : tracks_) {
+    track = Track{};
+    track.filter = OneEuroPoseFilter(options_.filter_params);
+  }
+  world_track_ = Track{};
+  world_track_.filter = OneEuroPoseFilter(options_.filter_params);
+  loose_markers_.clear();
+  loose_seen_utime_.clear();
+}
+
+std::optional<Pose> ObjectTracker::predicted(const Track& track, int64_t utime) const {
+  if (!track.seen) return std::nullopt;
+  const double age = seconds_between(utime, track.last_seen_utime);
+  if (age > options_.memory_s || age < 0) return std::nullopt;
+  return exp_twist(track.X_CO, track.v_m_s, track.w_rad_s, age);
+}
+
+void ObjectTracker::record(Track& track, const Pose& X_CO, int64_t utime) {
+  if (track.seen) {
+    const double dt = seconds_between(utime, track.last_seen_utime);
+    if (dt > 0 && dt <= options_.memory_s) {
+      track.v_m_s = (X_CO.translation() - track.X_CO.translation()) / dt;
+      const Eigen::AngleAxisd dR(X_CO.linear() * track.X_CO.linear().transpose());
+      track.w_rad_s = dR.axis() * dR.angle() / dt;
+    } else {
+      track.v_m_s.setZero();
+      track.w_rad_s.setZero();
+    }
+  }
+  track.seen = true;
+  track.last_seen_utime = utime;
+  track.X_CO = X_CO;
+}
+
+ObjectTracker::Fit ObjectTracker::fit_rigid_set(const std::vector<MarkerModel>& set,
+                                                const std::vector<const DetectedMarker*>& seen,
+                                                const std::optional<Pose>& X_CO_predicted) {
+  Fit fit;
+  std::vector<Eigen::Vector3d> p_O;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<Pose> candidates;
+  const MarkerModel* single = nullptr;
+  MarkerPoseSolutions single_solutions;
+  for (const DetectedMarker* d : seen) {
+    for (const auto& m : set) {
+      if (m.id != d->id || m.family != d->family) continue;
+      const auto corners = marker_corners_M(m.size_m);
+      for (int k = 0; k < 4; ++k) {
+        p_O.push_back(m.X_OM * corners[k]);
+        uv.push_back(d->corners_px[k]);
+      }
+      const MarkerPoseSolutions s = solve_marker_pose(*d, m.size_m, camera_);
+      for (int i = 0; i < s.count; ++i) candidates.push_back(s.X_CM[i] * m.X_OM.inverse());
+      fit.marker_ids.push_back(m.id);
+      single = &m;
+      single_solutions = s;
+    }
+  }
+  if (fit.marker_ids.empty()) return fit;
+
+  Pose X_CO_initial;
+  if (fit.marker_ids.size() == 1) {
+    std::optional<Pose> X_CM_predicted;
+    if (X_CO_predicted) X_CM_predicted = *X_CO_predicted * single->X_OM;
+    const int pick = choose_solution(single_solutions, X_CM_predicted, options_.ambiguity_ratio_threshold);
+    X_CO_initial = single_solutions.X_CM[pick] * single->X_OM.inverse();
+  } else {
+    // Several markers: every marker's solutions (and the prediction) are hypotheses
+    // for the whole set; the corners of all markers decide between them.
+    if (X_CO_predicted) candidates.push_back(*X_CO_predicted);
+    double best = std::numeric_limits<double>::infinity();
+    for (const auto& c : candidates) {
+      const double rms = reprojection_rms_px(p_O, uv, c, camera_);
+      if (rms < best) {
+        best = rms;
+        X_CO_initial = c;
+      }
+    }
+  }
+  fit.pose = refine_pose(p_O, uv, X_CO_initial, camera_);
+  fit.ok = std::isfinite(fit.pose.X_CO.translation().sum()) && std::isfinite(fit.pose.X_CO.linear().sum());
+  return fit;
+}
+
+TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers, int64_t capture_utime) {
+  TrackingResult result;
+
+  // Which object owns each detection.
+  std::map<std::string, std::vector<const DetectedMarker*>> seen_by_object;
+  std::vector<const DetectedMarker*> seen_world;
+  result.markers.reserve(markers.size());
+  for (const auto& d : markers) {
+    MarkerObservation obs;
+    obs.marker = d;
+    for (const auto& o : model_.objects) {
+      for (const auto& m : o.markers) {
+        if (m.id == d.id && m.family == d.family) {
+          obs.owner = o.id;
+          obs.size_m = m.size_m;
+        }
+      }
+    }
+    if (obs.owner.empty()) {
+      ++result.unknown_markers;
+      obs.size_m = model_.default_marker_size_m;
+    } else {
+      seen_by_object[obs.owner].push_back(&d);
+      if (model_.find(obs.owner)->defines_world) seen_world.push_back(&d);
+    }
+    result.markers.push_back(std::move(obs));
+  }
+
+  // The camera in the world, from every world-fixing marker at once.
+  if (!seen_world.empty()) {
+    const Fit fit = fit_rigid_set(world_markers_, seen_world, predicted(world_track_, capture_utime));
+    if (fit.ok) {
+      Pose X_CW = fit.pose.X_CO;
+      if (options_.filter) X_CW = world_track_.filter.filter(X_CW, capture_utime * 1e-6);
+      record(world_track_, X_CW, capture_utime);
+    }
+  }
+  // A fixed camera keeps its last world pose while the world markers are hidden.
+  result.camera_world_valid = world_track_.seen;
+  if (world_track_.seen) result.X_WC = world_track_.X_CO.inverse();
+
+  for (const auto& object : model_.objects) {
+    Track& track = tracks_[object.id];
+    ObjectObservation obs;
+    obs.id = object.id;
+    const auto seen = seen_by_object.find(object.id);
+    Fit fit;
+    if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, predicted(track, capture_utime));
+    if (fit.ok) {
+      Pose X_CO = fit.pose.X_CO;
+      if (options_.filter) X_CO = track.filter.filter(X_CO, capture_utime * 1e-6);
+      record(track, X_CO, capture_utime);
+      obs.status = TrackStatus::kTracked;
+      obs.X_CO = X_CO;
+      obs.marker_ids = fit.marker_ids;
+      obs.rms_px = fit.pose.rms_px;
+      obs.position_sigma_m = fit.pose.position_sigma_m;
+      obs.rotation_sigma_rad = fit.pose.rotation_sigma_rad;
+    } else if (track.seen) {
+      const double age = seconds_between(capture_utime, track.last_seen_utime);
+      if (age <= options_.predict_s && age >= 0) {
+        obs.status = TrackStatus::kPredicted;
+        obs.X_CO = exp_twist(track.X_CO, track.v_m_s, track.w_rad_s, age);
+      } else {
+        obs.status = TrackStatus::kLost;
+        obs.X_CO = track.X_CO;
+        track.filter.reset();
+      }
+    }
+    obs.last_seen_utime = track.seen ? track.last_seen_utime : 0;
+    if (object.defines_world) {
+      obs.world_valid = true;
+      obs.X_WO = object.X_WO;
+    } else if (result.camera_world_valid && track.seen) {
+      obs.world_valid = true;
+      obs.X_WO = result.X_WC * obs.X_CO;
+    }
+    result.objects.push_back(obs);
+  }
+
+  // Marker poses: an owned marker's from its object's fit (consistent and resolved),
+  // a loose marker's from its own solutions, disambiguated against its last pose.
+  for (auto& obs : result.markers) {
+    if (!obs.owner.empty()) {
+      for (const auto& o : result.objects) {
+        if (o.id != obs.owner || o.status != TrackStatus::kTracked) continue;
+        for (const auto& m : model_.find(o.id)->markers) {
+          if (m.id == obs.marker.id && m.family == obs.marker.family) {
+            obs.has_pose = true;
+            obs.X_CM = o.X_CO * m.X_OM;
+          }
+        }
+      }
+    }
+    if (obs.size_m <= 0) continue;
+    const MarkerPoseSolutions s = solve_marker_pose(obs.marker, obs.size_m, camera_);
+    obs.ambiguity_ratio = s.ambiguity_ratio();
+    if (obs.has_pose) {
+      const auto corners = marker_corners_M(obs.size_m);
+      std::vector<Eigen::Vector3d> p(corners.begin(), corners.end());
+      std::vector<Eigen::Vector2d> uv(obs.marker.corners_px.begin(), obs.marker.corners_px.end());
+      obs.rms_px = reprojection_rms_px(p, uv, obs.X_CM, camera_);
+      continue;
+    }
+    const auto key = std::make_pair(obs.marker.family, obs.marker.id);
+    std::optional<Pose> previous;
+    const auto it = loose_markers_.find(key);
+    if (it != loose_markers_.end() && seconds_between(capture_utime, loose_seen_utime_[key]) <= options_.memory_s) {
+      previous = it->second;
+    }
+    const int pick = choose_solution(s, previous, options_.ambiguity_ratio_threshold);
+    obs.has_pose = s.count > 0;
+    obs.X_CM = s.X_CM[pick];
+    obs.rms_px = s.rms_px[pick];
+    loose_markers_[key] = obs.X_CM;
+    loose_seen_utime_[key] = capture_utime;
+  }
+  return result;
+}
+
+}  // namespace arphys::tracking

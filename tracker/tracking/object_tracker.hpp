@@ -1,0 +1,139 @@
+#pragma once
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "configs/loader/scene_config.hpp"
+#include "tracker/detection/marker_detector.hpp"
+#include "tracker/pose/camera_model.hpp"
+#include "tracker/pose/marker_pose.hpp"
+#include "tracker/pose/pose_filter.hpp"
+
+namespace arphys::tracking {
+
+// What the tracker knows of the scene: its real objects and their markers.
+struct MarkerModel {
+  std::string family;
+  int id = 0;
+  double size_m = 0;
+  Pose X_OM = Pose::Identity();
+};
+
+struct ObjectModel {
+  std::string id;
+  std::vector<MarkerModel> markers;
+  // A static real object fixes the world frame: seeing it gives the camera's pose.
+  bool defines_world = false;
+  Pose X_WO = Pose::Identity();
+};
+
+struct TrackerModel {
+  std::vector<ObjectModel> objects;
+  // Side length for markers no object declares (so photos can be processed without a
+  // scene); 0: such markers get no pose.
+  double default_marker_size_m = 0;
+
+  // Real objects with markers from the scene. Throws std::invalid_argument when two
+  // objects claim the same marker.
+  static TrackerModel from_scene(const config::SceneConfig& scene, double default_marker_size_m);
+  const ObjectModel* find(const std::string& object_id) const;
+};
+
+enum class TrackStatus { kTracked, kPredicted, kLost };
+const char* to_string(TrackStatus status);
+
+struct MarkerObservation {
+  DetectedMarker marker;
+  std::string owner;  // object id, empty for a marker no object declares
+  double size_m = 0;
+  bool has_pose = false;
+  Pose X_CM = Pose::Identity();
+  double rms_px = 0;
+  double ambiguity_ratio = 0;
+};
+
+struct ObjectObservation {
+  std::string id;
+  TrackStatus status = TrackStatus::kLost;
+  Pose X_CO = Pose::Identity();  // LOST: the last known pose, not a measurement
+  bool world_valid = false;
+  Pose X_WO = Pose::Identity();
+  std::vector<int> marker_ids;
+  double rms_px = 0;
+  double position_sigma_m = 0;
+  double rotation_sigma_rad = 0;
+  int64_t last_seen_utime = 0;  // 0: never seen
+};
+
+struct TrackingResult {
+  std::vector<MarkerObservation> markers;
+  std::vector<ObjectObservation> objects;  // every object of the model, in model order
+  bool camera_world_valid = false;
+  Pose X_WC = Pose::Identity();
+  int unknown_markers = 0;  // markers of this frame no object declares
+};
+
+struct TrackerOptions {
+  // A single marker's two pose solutions are told apart by their reprojection errors
+  // when the second is this many times worse; otherwise by the predicted pose.
+  double ambiguity_ratio_threshold = 4.0;
+  // An object not seen is PREDICTED (constant-velocity extrapolation) for this long,
+  // then LOST. 0: straight to LOST.
+  double predict_s = 0.1;
+  // How long a last pose is trusted as the reference for ambiguity decisions.
+  double memory_s = 0.5;
+  bool filter = false;  // one-euro filter on object poses
+  OneEuroParams filter_params;
+};
+
+// Turns one frame's detected markers into marker and object poses: per-marker IPPE,
+// joint PnP + Levenberg-Marquardt over every visible corner of an object, ambiguity
+// resolution, optional filtering, TRACKED / PREDICTED / LOST bookkeeping, and the
+// camera's pose in the world when a world-fixing object is seen.
+class ObjectTracker {
+ public:
+  ObjectTracker(TrackerModel model, CameraModel camera, TrackerOptions options = {});
+
+  TrackingResult update(const std::vector<DetectedMarker>& markers, int64_t capture_utime);
+  // Forgets every track (a new, unrelated picture).
+  void reset();
+
+  const TrackerModel& model() const { return model_; }
+  const CameraModel& camera() const { return camera_; }
+  const TrackerOptions& options() const { return options_; }
+
+ private:
+  struct Track {
+    bool seen = false;
+    int64_t last_seen_utime = 0;
+    Pose X_CO = Pose::Identity();
+    // Twist of O in C from the last two measurements (for prediction).
+    Eigen::Vector3d v_m_s = Eigen::Vector3d::Zero();
+    Eigen::Vector3d w_rad_s = Eigen::Vector3d::Zero();
+    OneEuroPoseFilter filter;
+    ObjectObservation last;
+  };
+  struct Fit {
+    bool ok = false;
+    PoseFit pose;
+    std::vector<int> marker_ids;
+  };
+  // Fits the pose of a rigid set of markers (an object, or the world) from the visible ones.
+  Fit fit_rigid_set(const std::vector<MarkerModel>& set, const std::vector<const DetectedMarker*>& seen,
+                    const std::optional<Pose>& X_CO_predicted);
+  std::optional<Pose> predicted(const Track& track, int64_t utime) const;
+  void record(Track& track, const Pose& X_CO, int64_t utime);
+
+  TrackerModel model_;
+  CameraModel camera_;
+  TrackerOptions options_;
+  std::vector<MarkerModel> world_markers_;  // markers of world-fixing objects, X_OM = X_WM
+  std::map<std::string, Track> tracks_;     // by object id
+  Track world_track_;                       // X_CO holds X_CW
+  std::map<std::pair<std::string, int>, Pose> loose_markers_;  // last X_CM of markers no object declares
+  std::map<std::pair<std::string, int>, int64_t> loose_seen_utime_;
+};
+
+}  // namespace arphys::tracking
