@@ -3,6 +3,7 @@
 // at known poses (tracker/synthetic), so every figure is checked against exact truth.
 #include <cmath>
 
+#include "tracker/detection/edge_refinement.hpp"
 #include "tracker/detection/marker_detector.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
@@ -30,6 +31,13 @@ inline const DetectedMarker* find_marker(const std::vector<DetectedMarker>& mark
     if (m.id == id) return &m;
   }
   return nullptr;
+}
+
+// Detection followed by the pipeline's edge refinement, as the tracker runs it.
+inline std::vector<DetectedMarker> detect_refined(MarkerDetector& detector, const cv::Mat& image) {
+  std::vector<DetectedMarker> found = detector.detect(image);
+  for (auto& m : found) refine_corners_on_edges(image, m);
+  return found;
 }
 
 }  // namespace arphys::tracking::testing

@@ -5,6 +5,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "tracker/detection/edge_refinement.hpp"
+
 namespace arphys::tracking {
 
 namespace {
@@ -31,8 +33,8 @@ std::vector<std::string> families_of(const TrackerModel& model) {
   return families;
 }
 
-TrackerPipeline::TrackerPipeline(std::unique_ptr<MarkerDetector> detector, ObjectTracker tracker)
-    : detector_(std::move(detector)), tracker_(std::move(tracker)) {}
+TrackerPipeline::TrackerPipeline(std::unique_ptr<MarkerDetector> detector, ObjectTracker tracker, bool refine_corners)
+    : detector_(std::move(detector)), tracker_(std::move(tracker)), refine_corners_(refine_corners) {}
 
 std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool independent) {
   const CameraModel& camera = tracker_.camera();
@@ -57,7 +59,10 @@ std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool ind
   report.implementation = detector_->describe();
   report.detect_start_utime = wall_utime();
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<DetectedMarker> markers = detector_->detect(gray_);
+  std::vector<DetectedMarker> markers = detector_->detect(gray_);
+  if (refine_corners_) {
+    for (auto& m : markers) counters_.unrefined_corners += refine_corners_on_edges(gray_, m) ? 0 : 1;
+  }
   report.detect_ms = elapsed_ms(t0);
   const auto t1 = std::chrono::steady_clock::now();
   report.result = tracker_.update(markers, frame.capture_utime);

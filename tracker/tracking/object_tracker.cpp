@@ -12,14 +12,15 @@ double seconds_between(int64_t later_utime, int64_t earlier_utime) {
   return static_cast<double>(later_utime - earlier_utime) * 1e-6;
 }
 
-// Picks one of a single marker's two solutions: by the reprojection errors when they
-// differ clearly, else the one nearer the prediction, else the lower error.
-int choose_solution(const MarkerPoseSolutions& solutions, const std::optional<Pose>& X_CM_predicted,
-                    double ratio_threshold) {
-  if (solutions.count < 2 || solutions.ambiguity_ratio() > ratio_threshold || !X_CM_predicted) return 0;
-  const double d0 = geometry::rotation_distance_rad(solutions.X_CM[0], *X_CM_predicted);
-  const double d1 = geometry::rotation_distance_rad(solutions.X_CM[1], *X_CM_predicted);
-  return d1 < d0 ? 1 : 0;
+// Picks one of a loose marker's two solutions: by the errors when they differ clearly,
+// else the one nearer its last pose.
+int choose_nearest(const MarkerPoseSolutions& solutions, const std::optional<Pose>& X_CM_previous,
+                   double ratio_threshold) {
+  if (solutions.count < 2 || solutions.ambiguity_ratio() > ratio_threshold || !X_CM_previous) return 0;
+  return geometry::rotation_distance_rad(solutions.X_CM[1], *X_CM_previous) <
+                 geometry::rotation_distance_rad(solutions.X_CM[0], *X_CM_previous)
+             ? 1
+             : 0;
 }
 
 Pose exp_twist(const Pose& X, const Eigen::Vector3d& v, const Eigen::Vector3d& w, double dt) {
@@ -117,9 +118,44 @@ void ObjectTracker::record(Track& track, const Pose& X_CO, int64_t utime) {
   track.X_CO = X_CO;
 }
 
+int ObjectTracker::choose_branch(Track& track, const std::array<Pose, 2>& X_CO, const MarkerPoseSolutions& solutions,
+                                 int64_t utime) {
+  const double variance = options_.corner_sigma_px * options_.corner_sigma_px;
+  std::array<double, 2> cost;
+  for (int i = 0; i < 2; ++i) cost[i] = 4 * solutions.rms_px[i] * solutions.rms_px[i] / (2 * variance);
+  const bool recent = track.branches_valid && seconds_between(utime, track.branches_utime) <= options_.memory_s &&
+                      utime > track.branches_utime;
+  // Near frontal the two solutions merge and the branches cannot be told apart by
+  // continuity (the tilt may pass through zero or turn back): start afresh there.
+  const bool merged = geometry::rotation_distance_rad(X_CO[0], X_CO[1]) < options_.branch_merge_rad;
+  if (!recent || merged) {
+    track.branch_cost = cost;
+    track.branch_X_CO = X_CO;
+  } else {
+    // Each branch continues with the solution nearest to it.
+    const auto d = [](const Pose& a, const Pose& b) { return geometry::rotation_distance_rad(a, b); };
+    const bool swap = d(track.branch_X_CO[0], X_CO[1]) + d(track.branch_X_CO[1], X_CO[0]) <
+                      d(track.branch_X_CO[0], X_CO[0]) + d(track.branch_X_CO[1], X_CO[1]);
+    for (int b = 0; b < 2; ++b) {
+      const int s = swap ? 1 - b : b;
+      track.branch_cost[b] = options_.branch_evidence_decay * track.branch_cost[b] + cost[s];
+      track.branch_X_CO[b] = X_CO[s];
+    }
+  }
+  track.branches_valid = true;
+  track.branches_utime = utime;
+  const int branch = track.branch_cost[1] < track.branch_cost[0] ? 1 : 0;
+  // Which solution the winning branch holds now.
+  return geometry::rotation_distance_rad(track.branch_X_CO[branch], X_CO[0]) <
+                 geometry::rotation_distance_rad(track.branch_X_CO[branch], X_CO[1])
+             ? 0
+             : 1;
+}
+
 ObjectTracker::Fit ObjectTracker::fit_rigid_set(const std::vector<MarkerModel>& set,
-                                                const std::vector<const DetectedMarker*>& seen,
-                                                const std::optional<Pose>& X_CO_predicted) {
+                                                const std::vector<const DetectedMarker*>& seen, Track& track,
+                                                int64_t utime) {
+  const std::optional<Pose> X_CO_predicted = predicted(track, utime);
   Fit fit;
   std::vector<Eigen::Vector3d> p_O;
   std::vector<Eigen::Vector2d> uv;
@@ -145,11 +181,15 @@ ObjectTracker::Fit ObjectTracker::fit_rigid_set(const std::vector<MarkerModel>& 
 
   Pose X_CO_initial;
   if (fit.marker_ids.size() == 1) {
-    std::optional<Pose> X_CM_predicted;
-    if (X_CO_predicted) X_CM_predicted = *X_CO_predicted * single->X_OM;
-    const int pick = choose_solution(single_solutions, X_CM_predicted, options_.ambiguity_ratio_threshold);
+    int pick = 0;
+    if (single_solutions.count == 2) {
+      const std::array<Pose, 2> X_CO{single_solutions.X_CM[0] * single->X_OM.inverse(),
+                                     single_solutions.X_CM[1] * single->X_OM.inverse()};
+      pick = choose_branch(track, X_CO, single_solutions, utime);
+    }
     X_CO_initial = single_solutions.X_CM[pick] * single->X_OM.inverse();
   } else {
+    track.branches_valid = false;
     // Several markers: every marker's solutions (and the prediction) are hypotheses
     // for the whole set; the corners of all markers decide between them.
     if (X_CO_predicted) candidates.push_back(*X_CO_predicted);
@@ -197,7 +237,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
 
   // The camera in the world, from every world-fixing marker at once.
   if (!seen_world.empty()) {
-    const Fit fit = fit_rigid_set(world_markers_, seen_world, predicted(world_track_, capture_utime));
+    const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, capture_utime);
     if (fit.ok) {
       Pose X_CW = fit.pose.X_CO;
       if (options_.filter) X_CW = world_track_.filter.filter(X_CW, capture_utime * 1e-6);
@@ -214,7 +254,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     obs.id = object.id;
     const auto seen = seen_by_object.find(object.id);
     Fit fit;
-    if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, predicted(track, capture_utime));
+    if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, track, capture_utime);
     if (fit.ok) {
       Pose X_CO = fit.pose.X_CO;
       if (options_.filter) X_CO = track.filter.filter(X_CO, capture_utime * 1e-6);
@@ -277,7 +317,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     if (it != loose_markers_.end() && seconds_between(capture_utime, loose_seen_utime_[key]) <= options_.memory_s) {
       previous = it->second;
     }
-    const int pick = choose_solution(s, previous, options_.ambiguity_ratio_threshold);
+    const int pick = choose_nearest(s, previous, options_.ambiguity_ratio_threshold);
     obs.has_pose = s.count > 0;
     obs.X_CM = s.X_CM[pick];
     obs.rms_px = s.rms_px[pick];

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <array>
 #include <map>
 #include <optional>
 #include <string>
@@ -76,9 +77,19 @@ struct TrackingResult {
 };
 
 struct TrackerOptions {
-  // A single marker's two pose solutions are told apart by their reprojection errors
-  // when the second is this many times worse; otherwise by the predicted pose.
+  // A loose marker's two pose solutions are told apart by their reprojection errors
+  // alone when the second is this many times worse, else by its last pose. For an
+  // object seen through one marker both branches are followed
+  // over frames (each new solution joins the branch it continues) and the branch whose
+  // corners have fitted better over the recent frames wins: near frontal one frame's
+  // errors hardly differ, and a prediction from an ambiguous frame can lock onto the
+  // mirror branch; the evidence of several frames does neither.
   double ambiguity_ratio_threshold = 4.0;
+  double corner_sigma_px = 0.05;
+  // Per-frame decay of the evidence each branch has gathered (0: none kept).
+  double branch_evidence_decay = 0.8;
+  // Solutions closer than this are one branch (near-frontal views).
+  double branch_merge_rad = 0.2;
   // An object not seen is PREDICTED (constant-velocity extrapolation) for this long,
   // then LOST. 0: straight to LOST.
   double predict_s = 0.1;
@@ -113,7 +124,12 @@ class ObjectTracker {
     Eigen::Vector3d v_m_s = Eigen::Vector3d::Zero();
     Eigen::Vector3d w_rad_s = Eigen::Vector3d::Zero();
     OneEuroPoseFilter filter;
-    ObjectObservation last;
+    // A single marker's two pose branches, followed frame to frame, each with its
+    // decayed sum of squared corner residuals (in units of the corner variance).
+    bool branches_valid = false;
+    int64_t branches_utime = 0;
+    std::array<Pose, 2> branch_X_CO;
+    std::array<double, 2> branch_cost{0, 0};
   };
   struct Fit {
     bool ok = false;
@@ -121,8 +137,10 @@ class ObjectTracker {
     std::vector<int> marker_ids;
   };
   // Fits the pose of a rigid set of markers (an object, or the world) from the visible ones.
-  Fit fit_rigid_set(const std::vector<MarkerModel>& set, const std::vector<const DetectedMarker*>& seen,
-                    const std::optional<Pose>& X_CO_predicted);
+  Fit fit_rigid_set(const std::vector<MarkerModel>& set, const std::vector<const DetectedMarker*>& seen, Track& track,
+                    int64_t utime);
+  // Which of a single marker's two solutions (as object poses) to take.
+  int choose_branch(Track& track, const std::array<Pose, 2>& X_CO, const MarkerPoseSolutions& solutions, int64_t utime);
   std::optional<Pose> predicted(const Track& track, int64_t utime) const;
   void record(Track& track, const Pose& X_CO, int64_t utime);
 
