@@ -1,0 +1,149 @@
+// The `tracker` executable's command-line contract on file sources: --help, JSON lines
+// for an image folder and a video file, and clear refusals (exit code 2) for a missing
+// source and a calibration that does not match the frames.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "configs/loader/camera_config.hpp"
+#include "tracker/synthetic/marker_image_renderer.hpp"
+
+namespace {
+
+const std::string kTracker = std::string(ARPHYS_BINARY_DIR) + "/tracker/app/tracker";
+const std::string kData = std::string(ARPHYS_SOURCE_DIR) + "/tests/data/";
+
+struct CliRun {
+  int exit_code = -1;
+  std::string out;
+};
+
+CliRun run(const std::string& args) {
+  CliRun r;
+  FILE* pipe = popen((kTracker + " " + args + " 2>&1").c_str(), "r");
+  char buffer[4096];
+  while (fgets(buffer, sizeof buffer, pipe)) r.out += buffer;
+  r.exit_code = WEXITSTATUS(pclose(pipe));
+  return r;
+}
+
+std::vector<nlohmann::json> json_lines(const std::string& out) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line[0] == '{') lines.push_back(nlohmann::json::parse(line));
+  }
+  return lines;
+}
+
+TEST(TrackerCli, HelpDocumentsTheContract) {
+  const CliRun r = run("--help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--camera", "--source", "--scene", "--marker-size", "--impl", "--json", "--print", "--param",
+                             "--filter", "--predict-s"}) {
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  }
+}
+
+// The apriltag repository's photos as a folder, in the reference's detector configuration
+// (decimation 1, no edge refinement inside apriltag): one JSON line per photo, named, with all
+// 47 reference markers at their reference corners (within 1 px after refinement) and
+// poses for the given marker size.
+TEST(TrackerCli, JsonForAnImageFolder) {
+  const CliRun r = run("--camera " + kData + "nominal_camera_799x533.yaml --source " + kData +
+                    "apriltag_photos --marker-size 0.05 --param decimate=1 --param refine_edges=0 --json --no-lcm");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto lines = json_lines(r.out);
+  ASSERT_EQ(lines.size(), 3u);
+  int markers = 0, matched = 0;
+  for (const auto& frame : lines) {
+    const std::string name = frame.at("source");
+    std::ifstream reference(kData + "apriltag_photos/" + name.substr(0, name.size() - 4) + ".txt");
+    std::vector<std::vector<double>> refs;
+    std::string line;
+    const std::regex number(R"([-0-9.]+)");
+    while (std::getline(reference, line)) {
+      std::vector<double> v;
+      for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
+        v.push_back(std::stod(it->str()));
+      }
+      if (v.size() == 9) refs.push_back(v);
+    }
+    for (const auto& m : frame.at("markers")) {
+      ++markers;
+      EXPECT_EQ(m.at("family"), "tag36h11");
+      EXPECT_EQ(m.at("position_m").size(), 3u);
+      EXPECT_EQ(m.at("orientation_wxyz").size(), 4u);
+      EXPECT_GT(m.at("position_m")[2].get<double>(), 0.0);  // in front of the camera
+      for (const auto& ref : refs) {
+        if (static_cast<int>(ref[0]) != m.at("id").get<int>()) continue;
+        double worst = 0;
+        for (int k = 0; k < 4; ++k) {
+          worst = std::max(worst, std::hypot(m.at("corners")[k][0].get<double>() - (ref[1 + 2 * k] - 0.5),
+                                             m.at("corners")[k][1].get<double>() - (ref[2 + 2 * k] - 0.5)));
+        }
+        if (worst < 1.0) {
+          ++matched;
+          break;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(markers, 47);
+  EXPECT_EQ(matched, 47);
+}
+
+// A video file of a moving marker (rendered at known poses): a line per frame, exit at
+// the end, the marker found in every frame near its true position.
+TEST(TrackerCli, JsonForAVideoFile) {
+  const std::string camera_file = std::string(ARPHYS_SOURCE_DIR) + "/configs/cameras/synthetic_640x480.yaml";
+  const auto camera = arphys::tracking::CameraModel::from_config(arphys::config::load_camera(camera_file));
+  const std::string video = ::testing::TempDir() + "tracker_cli_test.avi";
+  std::vector<Eigen::Vector3d> truth;
+  {
+    cv::VideoWriter writer(video, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30, cv::Size(640, 480), false);
+    ASSERT_TRUE(writer.isOpened());
+    const cv::Mat background = arphys::tracking::clutter_background(640, 480, 4);
+    for (int i = 0; i < 20; ++i) {
+      const auto X = arphys::tracking::marker_pose_at(camera, 250 + 5 * i, 240, 0.5, 0.4, 0.1, 0.2);
+      truth.push_back(X.translation());
+      writer.write(arphys::tracking::render_markers(camera, {{"tag36h11", 8, 0.08, X}}, background));
+    }
+  }
+  const CliRun r = run("--camera " + camera_file + " --source " + video + " --marker-size 0.08 --json --no-lcm");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const auto lines = json_lines(r.out);
+  ASSERT_EQ(lines.size(), truth.size());
+  for (size_t i = 0; i < lines.size(); ++i) {
+    ASSERT_EQ(lines[i].at("markers").size(), 1u) << "frame " << i;
+    const auto& p = lines[i].at("markers")[0].at("position_m");
+    const Eigen::Vector3d position(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    EXPECT_LT((position - truth[i]).norm(), 3e-3) << "frame " << i;  // JPEG-compressed frames
+  }
+  std::filesystem::remove(video);
+}
+
+TEST(TrackerCli, RefusesAMissingSourceAndAMismatchedCamera) {
+  CliRun r = run("--source /nonexistent/video.mp4 --json --no-lcm");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("/nonexistent/video.mp4"), std::string::npos) << r.out;
+  r = run("--source " + kData + "apriltag_photos --json --no-lcm");  // default camera: 640x480
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("640x480"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("799x533"), std::string::npos) << r.out;
+  r = run("--source " + kData + "apriltag_photos --impl vuforia");
+  EXPECT_NE(r.exit_code, 0);
+  r = run("--camera " + kData + "nominal_camera_799x533.yaml --source " + kData +
+          "apriltag_photos --param decimate=zero --json --no-lcm");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("decimate"), std::string::npos) << r.out;
+}
+
+}  // namespace
