@@ -148,6 +148,7 @@ TEST(Detectors, PredictiveSearchFindsNewSmallMarkersAndKeepsThem) {
   const cv::Mat background = clutter_background(640, 480, 11);
   AprilTagDetector detector;
   detector.set_param("roi_tracking", "1");
+  detector.set_param("scan_tiles", "16");
   int first_found = -1, kept = 0;
   for (int frame = 0; frame < 40; ++frame) {
     const double u = 470 + 2.0 * frame, v = 120 + 1.0 * frame;  // 2 px per frame to the right

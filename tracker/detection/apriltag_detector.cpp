@@ -159,27 +159,24 @@ std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& g
     }
   };
 
-  // Windows around last frame's markers: the marker's bounds grown by half its size
-  // (inter-frame motion) and a quiet-zone margin, merged when they overlap.
-  std::vector<cv::Rect> windows;
+  // Markers of last frame that the coarse pass missed (too small for it) are searched
+  // again in a window around their last corners: the bounds grown by half their size
+  // (inter-frame motion) and a quiet-zone margin, at full resolution for small markers
+  // and half resolution for the others. Markers the coarse pass found need no window:
+  // their corners are refined at full resolution by the pipeline anyway.
   for (const auto& m : previous_) {
+    if (std::any_of(found.begin(), found.end(), [&](const DetectedMarker& f) { return same_marker(f, m); })) continue;
     const cv::Rect b = marker_bounds(m);
-    const int grow = std::max(12, std::max(b.width, b.height) / 2);
-    cv::Rect w = cv::Rect(b.x - grow, b.y - grow, b.width + 2 * grow, b.height + 2 * grow) & frame;
-    for (auto it = windows.begin(); it != windows.end();) {
-      if ((w & *it).area() > 0) {
-        w |= *it;
-        it = windows.erase(it);
-      } else {
-        ++it;
-      }
-    }
-    if (w.area() > 0) windows.push_back(w);
+    const int side = std::max(b.width, b.height);
+    const int grow = std::max(12, side / 2);
+    const cv::Rect w = cv::Rect(b.x - grow, b.y - grow, b.width + 2 * grow, b.height + 2 * grow) & frame;
+    if (w.area() <= 0) continue;
+    fine_detector_->quad_decimate = side < 40 ? 1.0f : 2.0f;
+    merge(detect_region(fine_detector_, gray, w));
   }
-  for (const auto& w : windows) merge(detect_region(fine_detector_, gray, w));
 
-  // One scan tile per frame at full resolution, tiles overlapping by 64 px so that a
-  // marker up to that size lies wholly inside one of them.
+  // One scan tile per frame at full resolution, tiles overlapping by 32 px so that any
+  // marker the coarse pass is too coarse for (< ~60 px) lies wholly inside one of them.
   if (scan_tiles_ > 0) {
     const int columns = static_cast<int>(std::ceil(std::sqrt(scan_tiles_ * 4.0 / 3.0)));
     const int rows = (scan_tiles_ + columns - 1) / columns;
@@ -189,6 +186,7 @@ std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& g
     const int overlap = 32;
     const cv::Rect region =
         cv::Rect((tile % columns) * w - overlap, (tile / columns) * h - overlap, w + 2 * overlap, h + 2 * overlap) & frame;
+    fine_detector_->quad_decimate = 1.0f;
     merge(detect_region(fine_detector_, gray, region));
   }
   previous_ = found;

@@ -17,11 +17,12 @@ namespace arphys::tracking {
 // max_hamming (bits corrected, 0..2; 2).
 //
 // Predictive search (roi_tracking = 1, for video): every frame is searched at a coarse
-// decimation (coarse_decimate, default 4: finds markers of >= ~60 px anywhere), markers
-// found in the previous frame are searched again at full resolution in a window around
-// their last corners, and one of scan_tiles tiles of the frame (default 16, in turn) is
+// decimation (coarse_decimate, default 4: finds markers of >= ~60 px anywhere); markers
+// of the previous frame the coarse pass missed are searched again in a window around
+// their last corners; and one of scan_tiles tiles of the frame (default 64, in turn) is
 // searched at full resolution, so a small marker that appears anywhere is found within
 // scan_tiles frames. reset_prediction() forgets the previous frame (independent pictures).
+// Corner accuracy comes from the pipeline's edge refinement, not the decimation.
 //
 // Corners come out in OpenCV's convention: libapriltag puts pixel centres at (0.5, 0.5)
 // (apriltag issue #121), so 0.5 px is subtracted from each coordinate.
@@ -48,7 +49,7 @@ class AprilTagDetector final : public MarkerDetector {
   double decimate_ = 2.0;
   bool roi_tracking_ = false;
   double coarse_decimate_ = 4.0;
-  int scan_tiles_ = 16;
+  int scan_tiles_ = 64;
   int next_tile_ = 0;
   std::vector<DetectedMarker> previous_;
 };
