@@ -68,7 +68,9 @@ cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacem
       in_front = in_front && z > 1e-3;
       z_min = std::min(z_min, z);
     }
-    if (!in_front) continue;
+    // Behind the camera, or seen from its back (a face of a box turned away): not drawn.
+    const bool facing = m.X_CM.linear().col(2).dot(m.X_CM.translation()) < 0;
+    if (!in_front || !facing) continue;
     // Texture resolution near the canvas's, so bilinear sampling neither aliases nor blurs.
     const double cell_canvas_px = S * camera.K(0, 0) * cell_m / z_min;
     const int k = std::clamp(static_cast<int>(std::lround(cell_canvas_px)), 1, 64);

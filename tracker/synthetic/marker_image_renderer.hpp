@@ -38,7 +38,8 @@ struct ImageEffects {
 cv::Mat clutter_background(int width_px, int height_px, uint32_t seed);
 
 // Renders the markers over `background` (8-bit grey of the camera's size; empty: plain
-// mid-grey). Markers are drawn in order (later ones cover earlier ones).
+// mid-grey). Markers are drawn in order (later ones cover earlier ones); a marker seen
+// from behind is not drawn (back-face culling; the object's own body is not drawn).
 cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacement>& markers,
                        const cv::Mat& background, const ImageEffects& effects = {}, int supersample = 4);
 
