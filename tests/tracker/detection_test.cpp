@@ -181,25 +181,11 @@ TEST(Detectors, ReproducesTheApriltagRepositoryReferenceDetections) {
     const cv::Mat image = cv::imread(folder + name + ".jpg", cv::IMREAD_GRAYSCALE);
     ASSERT_FALSE(image.empty()) << name;
     const auto found = detector.detect(image);
-    std::ifstream in(folder + name + ".txt");
-    std::string line;
-    const std::regex number(R"([-0-9.]+)");
-    while (std::getline(in, line)) {
-      std::vector<double> v;
-      for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
-        v.push_back(std::stod(it->str()));
-      }
-      if (v.size() != 9) continue;
+    for (const auto& ref : testing::read_reference_detections(folder + name + ".txt")) {
       ++references;
       double best = 1e9;
       for (const auto& m : found) {
-        if (m.id != static_cast<int>(v[0])) continue;
-        double worst = 0;
-        // The reference is in apriltag's convention (pixel centres at +0.5).
-        for (int k = 0; k < 4; ++k) {
-          worst = std::max(worst, (m.corners_px[k] - Eigen::Vector2d(v[1 + 2 * k] - 0.5, v[2 + 2 * k] - 0.5)).norm());
-        }
-        best = std::min(best, worst);
+        if (m.id == ref.id) best = std::min(best, max_corner_error_px(m, ref.corners_px));
       }
       if (best < 1.0) ++matched;
       if (best < 0.1) ++within_0p1;

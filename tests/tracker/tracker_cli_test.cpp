@@ -15,6 +15,7 @@
 
 #include "configs/loader/camera_config.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "tests/tracker/tracker_test_support.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
 namespace {
@@ -68,17 +69,8 @@ TEST(TrackerCli, JsonForAnImageFolder) {
   int markers = 0, matched = 0;
   for (const auto& frame : lines) {
     const std::string name = frame.at("source");
-    std::ifstream reference(kData + "apriltag_photos/" + name.substr(0, name.size() - 4) + ".txt");
-    std::vector<std::vector<double>> refs;
-    std::string line;
-    const std::regex number(R"([-0-9.]+)");
-    while (std::getline(reference, line)) {
-      std::vector<double> v;
-      for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
-        v.push_back(std::stod(it->str()));
-      }
-      if (v.size() == 9) refs.push_back(v);
-    }
+    const auto refs = arphys::tracking::testing::read_reference_detections(
+        kData + "apriltag_photos/" + name.substr(0, name.size() - 4) + ".txt");
     for (const auto& m : frame.at("markers")) {
       ++markers;
       EXPECT_EQ(m.at("family"), "tag36h11");
@@ -86,11 +78,11 @@ TEST(TrackerCli, JsonForAnImageFolder) {
       EXPECT_EQ(m.at("orientation_wxyz").size(), 4u);
       EXPECT_GT(m.at("position_m")[2].get<double>(), 0.0);  // in front of the camera
       for (const auto& ref : refs) {
-        if (static_cast<int>(ref[0]) != m.at("id").get<int>()) continue;
+        if (ref.id != m.at("id").get<int>()) continue;
         double worst = 0;
         for (int k = 0; k < 4; ++k) {
-          worst = std::max(worst, std::hypot(m.at("corners")[k][0].get<double>() - (ref[1 + 2 * k] - 0.5),
-                                             m.at("corners")[k][1].get<double>() - (ref[2 + 2 * k] - 0.5)));
+          worst = std::max(worst, std::hypot(m.at("corners")[k][0].get<double>() - ref.corners_px[k].x(),
+                                             m.at("corners")[k][1].get<double>() - ref.corners_px[k].y()));
         }
         if (worst < 1.0) {
           ++matched;

@@ -2,6 +2,10 @@
 // Shared fixtures of the tracker tests: a 640x480 pinhole camera and markers rendered
 // at known poses (tracker/synthetic), so every figure is checked against exact truth.
 #include <cmath>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
 
 #include "tracker/detection/edge_refinement.hpp"
 #include "tracker/detection/marker_detector.hpp"
@@ -31,6 +35,31 @@ inline const DetectedMarker* find_marker(const std::vector<DetectedMarker>& mark
     if (m.id == id) return &m;
   }
   return nullptr;
+}
+
+// The apriltag repository's reference detections of one photo (`<name>.txt`): per line
+// the id and four corners, converted to OpenCV's pixel convention (-0.5 px).
+struct ReferenceDetection {
+  int id = 0;
+  std::array<Eigen::Vector2d, 4> corners_px;
+};
+inline std::vector<ReferenceDetection> read_reference_detections(const std::string& path) {
+  std::vector<ReferenceDetection> refs;
+  std::ifstream in(path);
+  std::string line;
+  const std::regex number(R"([-0-9.]+)");
+  while (std::getline(in, line)) {
+    std::vector<double> v;
+    for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
+      v.push_back(std::stod(it->str()));
+    }
+    if (v.size() != 9) continue;
+    ReferenceDetection r;
+    r.id = static_cast<int>(v[0]);
+    for (int k = 0; k < 4; ++k) r.corners_px[k] = Eigen::Vector2d(v[1 + 2 * k] - 0.5, v[2 + 2 * k] - 0.5);
+    refs.push_back(r);
+  }
+  return refs;
 }
 
 // Detection followed by the pipeline's edge refinement, as the tracker runs it.

@@ -46,6 +46,15 @@ std::vector<Config> configs() {
   };
 }
 
+// The configurations that work on independent pictures (the sweeps).
+std::vector<Config> picture_configs() {
+  std::vector<Config> list;
+  for (const auto& c : configs()) {
+    if (!c.video_only) list.push_back(c);
+  }
+  return list;
+}
+
 double degrees(double rad) { return rad * 180.0 / M_PI; }
 
 double percentile(std::vector<double> v, double p) {
@@ -75,10 +84,7 @@ std::vector<DetectedMarker> run_detector(MarkerDetector& detector, const cv::Mat
 void sweep(const std::string& out_dir, int trials, uint64_t seed) {
   const CameraModel camera = bench_camera();
   const cv::Mat background = clutter_background(640, 480, 101);
-  std::vector<Config> list;
-  for (const auto& c : configs()) {
-    if (!c.video_only) list.push_back(c);
-  }
+  const std::vector<Config> list = picture_configs();
   std::vector<std::unique_ptr<MarkerDetector>> detectors;
   for (const auto& c : list) detectors.push_back(make_detector(c.spec));
   std::ofstream csv(out_dir + "/track_sweep.csv");
@@ -141,10 +147,7 @@ void sweep(const std::string& out_dir, int trials, uint64_t seed) {
 void effects_sweep(const std::string& out_dir, int trials, uint64_t seed) {
   const CameraModel camera = bench_camera();
   const cv::Mat background = clutter_background(640, 480, 303);
-  std::vector<Config> list;
-  for (const auto& c : configs()) {
-    if (!c.video_only) list.push_back(c);
-  }
+  const std::vector<Config> list = picture_configs();
   std::vector<std::unique_ptr<MarkerDetector>> detectors;
   for (const auto& c : list) detectors.push_back(make_detector(c.spec));
   std::ofstream csv(out_dir + "/track_effects.csv");

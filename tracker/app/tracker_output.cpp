@@ -25,6 +25,19 @@ int8_t status_code(TrackStatus s) {
   return arphys::object_pose_t::STATUS_LOST;
 }
 
+// Both per-frame messages start with the same frame identity and stage times.
+template <class Message>
+Message message_with_header(const FrameReport& report, const std::string& camera_id) {
+  Message out{};
+  out.utime = report.capture_utime;
+  out.seq = report.seq;
+  out.camera_id = camera_id;
+  out.tracker_implementation = report.implementation;
+  out.detect_start_utime = report.detect_start_utime;
+  out.detect_end_utime = report.detect_end_utime;
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json frame_json(const FrameReport& report, int64_t frame_index) {
@@ -81,13 +94,7 @@ std::string frame_summary(const FrameReport& report) {
 }
 
 arphys::marker_detections_t detections_message(const FrameReport& report, const std::string& camera_id) {
-  arphys::marker_detections_t out{};
-  out.utime = report.capture_utime;
-  out.seq = report.seq;
-  out.camera_id = camera_id;
-  out.tracker_implementation = report.implementation;
-  out.detect_start_utime = report.detect_start_utime;
-  out.detect_end_utime = report.detect_end_utime;
+  auto out = message_with_header<arphys::marker_detections_t>(report, camera_id);
   for (const auto& m : report.result.markers) {
     arphys::marker_detection_t d{};
     d.family = m.marker.family;
@@ -110,13 +117,7 @@ arphys::marker_detections_t detections_message(const FrameReport& report, const 
 }
 
 arphys::object_poses_t poses_message(const FrameReport& report, const std::string& camera_id) {
-  arphys::object_poses_t out{};
-  out.utime = report.capture_utime;
-  out.seq = report.seq;
-  out.camera_id = camera_id;
-  out.tracker_implementation = report.implementation;
-  out.detect_start_utime = report.detect_start_utime;
-  out.detect_end_utime = report.detect_end_utime;
+  auto out = message_with_header<arphys::object_poses_t>(report, camera_id);
   out.camera_world_valid = report.result.camera_world_valid;
   out.X_WC = msg::to_message(report.result.X_WC);
   for (const auto& o : report.result.objects) {
