@@ -137,7 +137,7 @@ TEST(TrackerCli, ObjectsOfASceneFile) {
                       .toRotationMatrix();
   X_WC.translation() = Eigen::Vector3d(0.1, -0.85, 0.75);
   std::vector<arphys::tracking::MarkerPlacement> placed;
-  arphys::geometry::Pose X_CB;
+  arphys::geometry::Pose X_CB = arphys::geometry::Pose::Identity();
   for (const auto& o : scene.objects) {
     if (o.id == "box") X_CB = X_WC.inverse() * o.X_WO;
     for (const auto& m : o.markers) placed.push_back({m.family, m.id, m.size_m, X_WC.inverse() * o.X_WO * m.X_OM});
