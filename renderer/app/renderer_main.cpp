@@ -1,0 +1,410 @@
+// renderer: draws the virtual objects over camera frames from the camera's viewpoint.
+//
+// Offline (--out): one picture, `renderer --camera CAMERA.yaml --background IMAGE --out
+// OUT.png` with either --scene (objects at their scene poses, seen from --camera-pose)
+// or --mesh FILE --pose "x y z qw qx qy qz" pairs (camera-from-object).
+//
+// Live (no --out): subscribes to camera images, world states and tracked poses on LCM;
+// for each frame draws the world state computed from that frame (or the nearest earlier
+// one, --match), composites, writes the outputs asked for, and publishes a render status.
+#include <CLI/CLI.hpp>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <set>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+
+#include "arphys/image_t.hpp"
+#include "arphys/object_poses_t.hpp"
+#include "arphys/process_status_t.hpp"
+#include "arphys/render_status_t.hpp"
+#include "arphys/world_state_t.hpp"
+#include "configs/loader/camera_config.hpp"
+#include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/pose_conversions.hpp"
+#include "renderer/drawing/overlay_renderer.hpp"
+#include "renderer/process/world_state_matcher.hpp"
+#include "renderer/scene/scene_models.hpp"
+#include "renderer/scene/view.hpp"
+
+namespace {
+
+using namespace arphys;
+using namespace arphys::rendering;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+// Logs the first occurrence of each kind of bad input; every one is counted.
+struct BadInput {
+  std::map<std::string, int64_t> counts;
+  void note(const std::string& kind, const std::string& detail) {
+    if (counts[kind]++ == 0) std::fprintf(stderr, "renderer: %s (%s); further ones counted silently\n", kind.c_str(), detail.c_str());
+  }
+  int64_t total() const {
+    int64_t n = 0;
+    for (const auto& [k, v] : counts) n += v;
+    return n;
+  }
+};
+
+// Bodies at time t_s of a `simulate` CSV (t,id,px,py,pz,qw,qx,qy,qz,...): the rows of the
+// last step at or before t_s. A body id "model#n" is drawn with model "model".
+std::vector<BodyToDraw> bodies_from_csv(const std::string& path, double t_s, const config::SceneConfig& scene) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read states file " + path);
+  std::string line;
+  std::getline(in, line);  // header
+  std::map<std::string, BodyToDraw> latest;
+  double latest_t = -1;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string field;
+    std::vector<std::string> f;
+    while (std::getline(row, field, ',')) f.push_back(field);
+    if (f.size() < 9) continue;
+    const double t = std::stod(f[0]);
+    if (t > t_s + 1e-9) break;
+    if (t > latest_t) latest_t = t;
+    const std::string model = f[1].substr(0, f[1].find('#'));
+    const config::ObjectConfig* object = scene.find_object(model);
+    latest[f[1]] = {model, object && object->role == config::Role::kReal,
+                    geometry::make_pose({std::stod(f[2]), std::stod(f[3]), std::stod(f[4])},
+                                        {std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), std::stod(f[8])}, f[1], 1e-3)};
+  }
+  if (latest.empty()) throw std::runtime_error("states file " + path + " has no rows at or before t = " + std::to_string(t_s));
+  std::vector<BodyToDraw> bodies;
+  for (const auto& [id, body] : latest) bodies.push_back(body);
+  return bodies;
+}
+
+int offline(const CameraProjection& projection, const std::string& background_path, const std::string& out_path,
+            const std::string& scene_path, const geometry::Pose& X_WC, const std::vector<std::string>& meshes,
+            const std::vector<std::string>& poses, const LayerOptions& options, const std::string& states_path,
+            double states_time_s) {
+  const cv::Mat background = cv::imread(background_path, cv::IMREAD_COLOR);
+  if (background.empty()) throw std::runtime_error("cannot read background image " + background_path);
+  if (background.cols != projection.width_px || background.rows != projection.height_px) {
+    throw std::runtime_error("background " + background_path + " is " + std::to_string(background.cols) + "x" +
+                             std::to_string(background.rows) + " but the camera is " + std::to_string(projection.width_px) +
+                             "x" + std::to_string(projection.height_px));
+  }
+  OverlayRenderer renderer(projection);
+  OverlayLayers layers;
+  std::unique_ptr<SceneModels> models;
+  if (!scene_path.empty()) {
+    const config::SceneConfig scene = config::load_scene(scene_path);
+    models = std::make_unique<SceneModels>(scene, renderer);
+    std::vector<BodyToDraw> bodies;
+    if (!states_path.empty()) {
+      bodies = bodies_from_csv(states_path, states_time_s, scene);
+    } else {
+      for (const auto& o : scene.objects) {
+        if (o.role == config::Role::kVirtual && !o.spawn_at_start.empty()) {
+          for (const auto& s : o.spawn_at_start) bodies.push_back({o.id, false, s.X_WB});
+        } else {
+          bodies.push_back({o.id, o.role == config::Role::kReal, o.X_WO});
+        }
+      }
+    }
+    int unknown = 0;
+    layers = layers_for(*models, bodies, X_WC, options, &unknown);
+    if (unknown > 0) std::fprintf(stderr, "renderer: %d bodies of models the scene does not have, skipped\n", unknown);
+  }
+  if (meshes.size() != poses.size()) throw std::invalid_argument("every --mesh needs one --pose (camera-from-object)");
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    const GpuMesh* mesh = renderer.upload(geometry::load_mesh(meshes[i]));
+    layers.items.push_back({mesh, parse_pose(poses[i], "--pose"), {0.93f, 0.80f, 0.62f, 1.0f}, DrawStyle::kShaded});
+  }
+  const cv::Mat out = renderer.composite(layers, background);
+  if (!cv::imwrite(out_path, out)) throw std::runtime_error("cannot write " + out_path);
+  std::fprintf(stderr, "renderer: %zu objects drawn over %s -> %s (%s)\n", layers.items.size(), background_path.c_str(),
+               out_path.c_str(), renderer.describe().c_str());
+  return 0;
+}
+
+cv::Mat decode_image(const arphys::image_t& m) {
+  if (m.pixel_format == arphys::image_t::PIXEL_FORMAT_JPEG) {
+    cv::Mat image = cv::imdecode(m.data, cv::IMREAD_COLOR);
+    if (image.empty()) throw std::invalid_argument("JPEG does not decode");
+    return image;
+  }
+  const int channels = m.pixel_format == arphys::image_t::PIXEL_FORMAT_GRAY8 ? 1 : 3;
+  if (m.pixel_format < 1 || m.pixel_format > 3) throw std::invalid_argument("unknown pixel format");
+  if (m.width <= 0 || m.height <= 0 || m.row_stride < m.width * channels ||
+      static_cast<int64_t>(m.row_stride) * m.height > static_cast<int64_t>(m.data.size())) {
+    throw std::invalid_argument("image bytes do not match its header");
+  }
+  cv::Mat view(m.height, m.width, channels == 1 ? CV_8UC1 : CV_8UC3, const_cast<uint8_t*>(m.data.data()), m.row_stride);
+  cv::Mat bgr;
+  if (channels == 1) cv::cvtColor(view, bgr, cv::COLOR_GRAY2BGR);
+  else if (m.pixel_format == arphys::image_t::PIXEL_FORMAT_RGB8) cv::cvtColor(view, bgr, cv::COLOR_RGB2BGR);
+  else bgr = view.clone();
+  return bgr;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"arphys renderer: virtual objects drawn over camera frames from the camera's viewpoint (OSMesa).\n"
+               "Offline with --out; otherwise live on LCM (images + world states in, overlays out)."};
+  std::string camera_path, scene_path, background, out, camera_pose, look_at_text, match = "nearest-earlier", url, video,
+      png_dir, states_path;
+  double states_time_s = 0;
+  std::vector<std::string> meshes, poses;
+  bool proxies = false, axes = false, overlay_lcm = false, no_contacts = false;
+  int png_every = 30;
+  double duration_s = 0, near_m = 0.01, far_m = 20.0;
+  app.add_option("--camera", camera_path, "camera calibration (OpenCV YAML); default: the scene's camera");
+  app.add_option("--scene", scene_path, "scene YAML: models of the objects, LCM channels");
+  app.add_option("--background", background, "offline: the picture to draw over (the camera's size)");
+  app.add_option("--out", out, "offline: write the composited picture here and exit");
+  app.add_option("--mesh", meshes, "offline: a mesh file to draw (mesh units taken as metres), repeatable");
+  app.add_option("--pose", poses, "offline: \"x y z qw qx qy qz\" camera-from-object for the --mesh of the same rank");
+  app.add_option("--camera-pose", camera_pose, "\"x y z qw qx qy qz\": the camera in the world (X_WC, OpenCV axes) "
+                                               "when no tracked table gives it; default: 0.9 m in front of and 0.7 m "
+                                               "above the world origin, looking at it");
+  app.add_option("--look-at", look_at_text, "\"ex ey ez tx ty tz\": the camera at eye E looking at target T "
+                                             "(world, metres; z up), instead of --camera-pose");
+  app.add_option("--states", states_path, "offline with --scene: draw the bodies of a `simulate` CSV ...");
+  app.add_option("--time", states_time_s, "offline: ... at this simulation time, seconds")->capture_default_str();
+  app.add_option("--match", match, "live: which world state to draw over a frame: exact (the one computed from that "
+                                   "frame), nearest-earlier, latest")->capture_default_str();
+  app.add_option("--video", video, "live: write the overlay video here (.mp4: mp4v, .avi: MJPG)");
+  app.add_option("--png-dir", png_dir, "live: write PNG snapshots here");
+  app.add_option("--png-every", png_every, "live: a snapshot every N frames")->capture_default_str();
+  app.add_flag("--overlay-lcm", overlay_lcm, "live: publish the overlay as a JPEG image_t on the overlay channel");
+  app.add_flag("--proxies", proxies, "draw real objects' collision shapes translucent (debug)");
+  app.add_flag("--axes", axes, "draw the world axes (debug)");
+  app.add_flag("--no-contacts", no_contacts, "live: do not draw contact points and normals");
+  app.add_option("--near", near_m, "near clipping distance, metres")->capture_default_str();
+  app.add_option("--far", far_m, "far clipping distance, metres")->capture_default_str();
+  app.add_option("--lcm-url", url, "LCM URL (default: the scene's lcm.url)");
+  app.add_option("--duration", duration_s, "live: exit after this many seconds (0: until SIGINT)");
+  CLI11_PARSE(app, argc, argv);
+
+  LayerOptions options;
+  options.real_proxies = proxies;
+  options.world_axes = axes;
+  config::SceneConfig scene;
+  CameraProjection projection;
+  geometry::Pose camera_pose_X_WC = default_camera_pose();
+  try {
+    if (!scene_path.empty()) scene = config::load_scene(scene_path);
+    if (camera_path.empty()) camera_path = scene.camera_file;
+    if (camera_path.empty()) throw std::invalid_argument("no camera: give --camera, or a --scene that names one");
+    projection = CameraProjection::from_config(config::load_camera(camera_path), near_m, far_m);
+    if (!look_at_text.empty()) {
+      std::istringstream in(look_at_text);
+      double v[6];
+      for (double& x : v) {
+        if (!(in >> x)) throw std::invalid_argument("--look-at '" + look_at_text + "': expected six numbers");
+      }
+      camera_pose_X_WC = look_at({v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+    } else if (!camera_pose.empty()) {
+      camera_pose_X_WC = parse_pose(camera_pose, "--camera-pose");
+    }
+    if (!out.empty()) {
+      if (background.empty()) throw std::invalid_argument("--out needs --background");
+      return offline(projection, background, out, scene_path, camera_pose_X_WC, meshes, poses, options, states_path,
+                     states_time_s);
+    }
+    if (scene_path.empty()) throw std::invalid_argument("live rendering needs --scene (models and channels)");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "renderer: %s\n", e.what());
+    return 2;
+  }
+
+  // Live.
+  std::unique_ptr<msg::Bus> bus;
+  std::unique_ptr<OverlayRenderer> renderer;
+  std::unique_ptr<SceneModels> models;
+  MatchPolicy policy;
+  const geometry::Pose fixed_X_WC = camera_pose_X_WC;
+  try {
+    policy = match_policy_from(match);
+    bus = std::make_unique<msg::Bus>(url.empty() ? scene.lcm_url : url);
+    renderer = std::make_unique<OverlayRenderer>(projection);
+    models = std::make_unique<SceneModels>(scene, *renderer);
+    if (!png_dir.empty()) std::filesystem::create_directories(png_dir);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "renderer: %s\n", e.what());
+    return 2;
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  WorldStateMatcher<arphys::world_state_t> states(64);
+  WorldStateMatcher<geometry::Pose> camera_poses(64);
+  std::optional<arphys::image_t> pending;
+  BadInput bad;
+  int64_t frames_dropped = 0;
+  bus->subscribe<arphys::world_state_t>(scene.channels.world_state,
+                                        [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                          states.add(m.utime, m);
+                                        });
+  bus->subscribe<arphys::object_poses_t>(scene.channels.object_poses,
+                                         [&](const arphys::object_poses_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                           if (!m.camera_world_valid) return;
+                                           camera_poses.add(m.utime, msg::from_message(m.X_WC, "X_WC"));
+                                         });
+  bus->subscribe<arphys::image_t>(scene.channels.camera_image,
+                                  [&](const arphys::image_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                    if (pending) ++frames_dropped;  // keep the newest: latency over completeness
+                                    pending = m;
+                                  });
+
+  cv::VideoWriter writer;
+  char host[256] = "unknown";
+  gethostname(host, sizeof host - 1);
+  std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, %s, LCM %s\n", scene.name.c_str(),
+               camera_path.c_str(), projection.width_px, projection.height_px, to_string(policy),
+               renderer->describe().c_str(), bus->url().c_str());
+  const auto start = std::chrono::steady_clock::now();
+  auto last_status = start;
+  int64_t rendered = 0, rendered_since_status = 0, published = 0, without_world = 0;
+  double render_ms_since_status = 0;
+  while (!g_stop) {
+    if (duration_s > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > duration_s) break;
+    bus->handle_timeout_ms(20);
+    bus->handle_pending();
+    if (pending) {
+      const arphys::image_t message = std::move(*pending);
+      pending.reset();
+      const int64_t render_start = msg::now_utime();
+      cv::Mat frame;
+      try {
+        frame = decode_image(message);
+      } catch (const std::exception& e) {
+        bad.note("undecodable image", e.what());
+      }
+      if (!frame.empty() && (frame.cols != projection.width_px || frame.rows != projection.height_px)) {
+        bad.note("image of the wrong size", std::to_string(frame.cols) + "x" + std::to_string(frame.rows));
+        frame.release();
+      }
+      if (!frame.empty()) {
+        const auto world = states.match(message.utime, policy);
+        const auto camera = camera_poses.match(message.utime, MatchPolicy::kNearestEarlier);
+        const geometry::Pose X_WC = camera.state ? *camera.state : fixed_X_WC;
+        OverlayLayers layers;
+        std::string note = "no world state";
+        if (world.state) {
+          std::vector<BodyToDraw> bodies;
+          for (const auto& b : world.state->bodies) {
+            const std::string problem = msg::pose_problem(b.X_WB);
+            if (!problem.empty()) {
+              bad.note("body with a bad pose", b.body_id + ": " + problem);
+              continue;
+            }
+            bodies.push_back({b.model, b.role == arphys::body_state_t::ROLE_REAL, msg::from_message(b.X_WB)});
+          }
+          int unknown = 0;
+          layers = layers_for(*models, bodies, X_WC, options, &unknown);
+          for (int i = 0; i < unknown; ++i) bad.note("unknown model in the world state", "not in scene " + scene.name);
+          if (!no_contacts) {
+            for (const auto& c : world.state->contacts) {
+              layers.contacts.push_back({layers.X_CW * msg::from_array(c.p_W_m), layers.X_CW.linear() * msg::from_array(c.n_W)});
+            }
+          }
+          note = "world t=" + std::to_string(world.state->sim_time_s).substr(0, 6) + " s";
+        } else {
+          ++without_world;
+        }
+        cv::Mat overlay = renderer->composite(layers, frame);
+        const int64_t render_end = msg::now_utime();
+        char text[200];
+        std::snprintf(text, sizeof text, "render %.1f ms  capture->render %.1f ms  %s", 1e-3 * (render_end - render_start),
+                      1e-3 * (render_end - message.utime), note.c_str());
+        cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 3, cv::LINE_AA);
+        cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
+        if (!video.empty()) {
+          if (!writer.isOpened()) {
+            const bool mp4 = video.size() > 4 && video.substr(video.size() - 4) == ".mp4";
+            writer.open(video, cv::VideoWriter::fourcc(mp4 ? 'm' : 'M', mp4 ? 'p' : 'J', mp4 ? '4' : 'P', mp4 ? 'v' : 'G'), 30,
+                        overlay.size());
+            if (!writer.isOpened()) bad.note("video file cannot be written", video);
+          }
+          if (writer.isOpened()) writer.write(overlay);
+        }
+        if (!png_dir.empty() && png_every > 0 && rendered % png_every == 0) {
+          cv::imwrite(png_dir + "/overlay_" + std::to_string(message.seq) + ".png", overlay);
+        }
+        if (overlay_lcm) {
+          arphys::image_t o{};
+          o.utime = message.utime;
+          o.seq = message.seq;
+          o.camera_id = message.camera_id;
+          o.width = overlay.cols;
+          o.height = overlay.rows;
+          o.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
+          cv::imencode(".jpg", overlay, o.data, {cv::IMWRITE_JPEG_QUALITY, 90});
+          o.size = static_cast<int32_t>(o.data.size());
+          bus->publish(scene.channels.overlay_image, o);
+          ++published;
+        }
+        arphys::render_status_t status{};
+        status.utime = message.utime;
+        status.seq = message.seq;
+        status.world_state_utime = world.state ? world.capture_utime : 0;
+        status.world_state_sim_time_s = world.state ? world.state->sim_time_s : 0;
+        status.world_state_match = static_cast<int8_t>(world.kind);
+        status.render_start_utime = render_start;
+        status.render_end_utime = render_end;
+        status.publish_utime = msg::now_utime();
+        bus->publish(scene.channels.render_status, status);
+        ++published;
+        ++rendered;
+        ++rendered_since_status;
+        render_ms_since_status += 1e-3 * (render_end - render_start);
+      }
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_status >= std::chrono::seconds(1)) {
+      const double window_s = std::chrono::duration<double>(now - last_status).count();
+      arphys::process_status_t status{};
+      status.utime = msg::now_utime();
+      status.name = "renderer";
+      status.implementation = renderer->describe();
+      status.host = host;
+      status.pid = getpid();
+      status.uptime_s = std::chrono::duration<double>(now - start).count();
+      status.rate_hz = rendered_since_status / window_s;
+      status.stage_duration_ms = rendered_since_status ? render_ms_since_status / rendered_since_status : 0.0;
+      status.received = bus->counters().received;
+      status.published = published;
+      status.dropped = frames_dropped;
+      status.decode_errors = bus->counters().decode_errors + bad.counts["undecodable image"];
+      status.rejected = bus->counters().rejected + bad.total() - bad.counts["undecodable image"];
+      status.state = rendered_since_status == 0 ? "waiting for camera frames"
+                                                : (states.empty() ? "drawing camera frames only: no world state" : "rendering");
+      for (const auto& [kind, count] : bad.counts) {
+        status.figure_names.push_back(kind);
+        status.figure_values.push_back(static_cast<double>(count));
+      }
+      status.figure_names.push_back("frames_without_world_state");
+      status.figure_values.push_back(static_cast<double>(without_world));
+      status.num_figures = static_cast<int32_t>(status.figure_names.size());
+      bus->publish(scene.channels.process_status, status);
+      last_status = now;
+      rendered_since_status = 0;
+      render_ms_since_status = 0;
+    }
+  }
+  std::fprintf(stderr, "renderer: %lld frames rendered, %lld dropped (newer frame waiting), %lld without a world state, "
+               "%lld bad inputs\n",
+               static_cast<long long>(rendered), static_cast<long long>(frames_dropped), static_cast<long long>(without_world),
+               static_cast<long long>(bad.total()));
+  return 0;
+}

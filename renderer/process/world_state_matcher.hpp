@@ -1,0 +1,64 @@
+#pragma once
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+
+namespace arphys::rendering {
+
+// How the renderer picks the world state to draw over a camera frame.
+enum class MatchPolicy {
+  kExact,           // only the state computed from this very frame (same capture utime)
+  kNearestEarlier,  // that one, else the newest state from an earlier frame (default)
+  kLatest,          // the newest state received, whatever frame it came from
+};
+MatchPolicy match_policy_from(const std::string& name);  // throws std::invalid_argument naming the value
+const char* to_string(MatchPolicy policy);
+
+enum class MatchKind { kNone, kExact, kNearestEarlier, kLatest };
+
+// A bounded history of states keyed by the capture utime they were computed from.
+// States arrive in any order relative to frames; the history keeps the newest
+// `capacity` by arrival.
+template <class State>
+class WorldStateMatcher {
+ public:
+  explicit WorldStateMatcher(std::size_t capacity = 256) : capacity_(capacity) {}
+
+  void add(int64_t capture_utime, State state) {
+    history_.push_back({capture_utime, std::move(state)});
+    if (history_.size() > capacity_) history_.pop_front();
+  }
+
+  struct Match {
+    MatchKind kind = MatchKind::kNone;
+    const State* state = nullptr;
+    int64_t capture_utime = 0;
+  };
+
+  Match match(int64_t frame_utime, MatchPolicy policy) const {
+    Match best;
+    if (history_.empty()) return best;
+    if (policy == MatchPolicy::kLatest) return {MatchKind::kLatest, &history_.back().state, history_.back().utime};
+    for (auto it = history_.rbegin(); it != history_.rend(); ++it) {
+      if (it->utime == frame_utime) return {MatchKind::kExact, &it->state, it->utime};
+      if (policy == MatchPolicy::kNearestEarlier && it->utime < frame_utime &&
+          (best.kind == MatchKind::kNone || it->utime > best.capture_utime)) {
+        best = {MatchKind::kNearestEarlier, &it->state, it->utime};
+      }
+    }
+    return best;
+  }
+
+  bool empty() const { return history_.empty(); }
+
+ private:
+  struct Entry {
+    int64_t utime;
+    State state;
+  };
+  std::size_t capacity_;
+  std::deque<Entry> history_;
+};
+
+}  // namespace arphys::rendering
