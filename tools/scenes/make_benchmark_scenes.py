@@ -162,6 +162,7 @@ moves across the table and back.""" % count, 0.01)
                  % (pose([0.45, 0, 0.0755]), pose([-0.45, 0, 0.0755]), pose([0.45, 0, 0.0755])))
         text += ("  - id: bunny\n    role: virtual\n    motion: dynamic\n"
                  "    collision: {shape: mesh, mesh: ../models/stanford-bunny-5k.obj, scale: 0.8}\n"
+                 "    render: {shape: mesh, mesh: ../models/stanford-bunny-1k.obj, scale: 0.8}  # drawn small: 1k triangles suffice\n"
                  "    mass_kg: 0.2\n    restitution: 0.4\n    spawn:\n      max_instances: %d\n      at_start:\n" % count)
         for i in range(count):
             col, row, layer = i % 5, (i // 5) % 4, i // 20
