@@ -18,8 +18,10 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <random>
 #include <set>
 
+#include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
@@ -28,6 +30,7 @@
 #include "arphys/object_poses_t.hpp"
 #include "arphys/process_status_t.hpp"
 #include "arphys/render_status_t.hpp"
+#include "arphys/sim_command_t.hpp"
 #include "arphys/world_state_t.hpp"
 #include "configs/loader/camera_config.hpp"
 #include "configs/loader/scene_config.hpp"
@@ -164,7 +167,8 @@ int main(int argc, char** argv) {
       png_dir, states_path;
   double states_time_s = 0;
   std::vector<std::string> meshes, poses;
-  bool proxies = false, axes = false, overlay_lcm = false, no_contacts = false;
+  bool proxies = false, axes = false, overlay_lcm = false, no_contacts = false, window = false;
+  std::string spawn_model = "bunny";
   int png_every = 30;
   double duration_s = 0, near_m = 0.01, far_m = 20.0;
   app.add_option("--camera", camera_path, "camera calibration (OpenCV YAML); default: the scene's camera");
@@ -186,6 +190,10 @@ int main(int argc, char** argv) {
   app.add_option("--png-dir", png_dir, "live: write PNG snapshots here");
   app.add_option("--png-every", png_every, "live: a snapshot every N frames")->capture_default_str();
   app.add_flag("--overlay-lcm", overlay_lcm, "live: publish the overlay as a JPEG image_t on the overlay channel");
+  app.add_flag("--window", window, "live: show the overlay in a window (needs a display). Keys: b spawns a "
+                                   "--spawn-model thrown onto the table as in the paper, r resets, p pauses/resumes, "
+                                   "q quits");
+  app.add_option("--spawn-model", spawn_model, "live: the virtual model the b key spawns")->capture_default_str();
   app.add_flag("--proxies", proxies, "draw real objects' collision shapes translucent (debug)");
   app.add_flag("--axes", axes, "draw the world axes (debug)");
   app.add_flag("--no-contacts", no_contacts, "live: do not draw contact points and normals");
@@ -267,6 +275,31 @@ int main(int argc, char** argv) {
                                   });
 
   cv::VideoWriter writer;
+  if (window && !std::getenv("DISPLAY")) {
+    std::fprintf(stderr, "renderer: --window needs a display (DISPLAY is not set); continuing without a window\n");
+    window = false;
+  }
+  int64_t command_seq = 0;
+  bool paused = false;
+  std::mt19937 spawn_rng(static_cast<uint32_t>(getpid()));
+  // The paper's interaction: a key throws a virtual object onto the table from above its
+  // near edge, with a small random spread so repeated presses do not stack exactly.
+  auto send_command = [&](int8_t command) {
+    arphys::sim_command_t c{};
+    c.utime = msg::now_utime();
+    c.seq = ++command_seq;
+    c.sender = std::string("renderer@") + std::to_string(getpid());
+    c.command = command;
+    if (command == arphys::sim_command_t::COMMAND_SPAWN) {
+      std::uniform_real_distribution<double> spread(-0.1, 0.1);
+      c.model = spawn_model;
+      const geometry::Pose X = geometry::make_pose({spread(spawn_rng), -0.3, 0.3}, {0.7071067811865476, 0.7071067811865476, 0, 0});
+      c.X_WB = msg::to_message(X);
+      const double v[3] = {spread(spawn_rng), 0.8, 0.5};
+      std::copy(v, v + 3, c.v_WB_m_s);
+    }
+    bus->publish(scene.channels.sim_command, c);
+  };
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
   std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, %s, LCM %s\n", scene.name.c_str(),
@@ -353,6 +386,17 @@ int main(int argc, char** argv) {
           o.size = static_cast<int32_t>(o.data.size());
           bus->publish(scene.channels.overlay_image, o);
           ++published;
+        }
+        if (window) {
+          cv::imshow("arphys", overlay);
+          const int key = cv::waitKey(1) & 0xff;
+          if (key == 'q' || key == 27) g_stop = true;
+          if (key == 'b') send_command(arphys::sim_command_t::COMMAND_SPAWN);
+          if (key == 'r') send_command(arphys::sim_command_t::COMMAND_RESET);
+          if (key == 'p') {
+            paused = !paused;
+            send_command(paused ? arphys::sim_command_t::COMMAND_PAUSE : arphys::sim_command_t::COMMAND_RESUME);
+          }
         }
         arphys::render_status_t status{};
         status.utime = message.utime;
