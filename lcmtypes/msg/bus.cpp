@@ -1,12 +1,43 @@
 #include "lcmtypes/msg/bus.hpp"
 
+#include <cstdio>
+#include <fstream>
+
 
 #include <exception>
 #include <stdexcept>
 
 namespace arphys::msg {
 
-Bus::Bus(const std::string& url) : url_(url), lcm_(std::make_unique<lcm::LCM>(url)) {
+namespace {
+
+// Camera images are larger than Linux's default socket receive buffer (212 KB): a
+// multicast URL without an explicit recv_buf_size gets 4 MiB, so a burst of frames is
+// not dropped by the kernel. The kernel caps it at net.core.rmem_max (see warn below).
+constexpr int kReceiveBufferBytes = 4 << 20;
+
+std::string with_receive_buffer(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0 || url.find("recv_buf_size") != std::string::npos) return url;
+  return url + (url.find('?') == std::string::npos ? "?" : "&") + "recv_buf_size=" + std::to_string(kReceiveBufferBytes);
+}
+
+void warn_if_kernel_caps_the_buffer(const std::string& url) {
+  if (url.rfind("udpm://", 0) != 0) return;
+  std::ifstream in("/proc/sys/net/core/rmem_max");
+  long rmem_max = 0;
+  if (!(in >> rmem_max) || rmem_max >= 1 << 20) return;
+  static bool warned = false;
+  if (!warned) {
+    std::fprintf(stderr, "arphys: net.core.rmem_max is %ld bytes, smaller than one raw camera frame: images may be "
+                 "dropped. Raise it (sysctl -w net.core.rmem_max=4194304) or send JPEG images.\n", rmem_max);
+    warned = true;
+  }
+}
+
+}  // namespace
+
+Bus::Bus(const std::string& url) : url_(with_receive_buffer(url)), lcm_(std::make_unique<lcm::LCM>(url_)) {
+  warn_if_kernel_caps_the_buffer(url_);
   if (!lcm_->good()) {
     throw std::runtime_error(
         "LCM could not start on URL '" + (url.empty() ? std::string("(default)") : url) +

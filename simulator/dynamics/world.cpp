@@ -240,7 +240,27 @@ std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& res
   }
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
   report.contacts = static_cast<int>(rows.size());
+  const std::vector<BodyVelocity> u_unconstrained = u;
   const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver);
+  // Launch guard: a solve that leaves a body non-finite or faster than any contact in
+  // these scenes can make it (a degenerate squeeze, an ill-conditioned frictional
+  // island) must not throw it across the room or poison the world with NaN. Such a body
+  // keeps its unconstrained velocity, capped; the next step's contacts catch it.
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const bool finite = u[k].v_WC_m_s.allFinite() && u[k].w_W_rad_s.allFinite();
+    if (finite && u[k].v_WC_m_s.norm() <= options_.max_body_speed_m_s &&
+        u[k].w_W_rad_s.norm() <= options_.max_body_angular_speed_rad_s) {
+      continue;
+    }
+    BodyVelocity safe = u_unconstrained[k];
+    if (!safe.v_WC_m_s.allFinite() || !safe.w_W_rad_s.allFinite()) safe = BodyVelocity{};
+    if (safe.v_WC_m_s.norm() > options_.max_body_speed_m_s) safe.v_WC_m_s *= options_.max_body_speed_m_s / safe.v_WC_m_s.norm();
+    if (safe.w_W_rad_s.norm() > options_.max_body_angular_speed_rad_s) {
+      safe.w_W_rad_s *= options_.max_body_angular_speed_rad_s / safe.w_W_rad_s.norm();
+    }
+    u[k] = safe;
+    ++report.launches_prevented;
+  }
   report.kkt_residual_m_s = std::max(report.kkt_residual_m_s, result.kkt_residual_m_s);
   report.infeasible |= result.infeasible;
   report.solver_iterations += result.iterations;

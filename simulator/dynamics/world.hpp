@@ -40,6 +40,10 @@ struct WorldOptions {
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
+  // Launch guard: a contact solve may not leave a body faster than these (see
+  // StepReport::launches_prevented).
+  double max_body_speed_m_s = 20.0;
+  double max_body_angular_speed_rad_s = 200.0;
   // A body pair's contact set is reduced to at most this many points when larger (per
   // normal direction: the deepest point and the extremes of the contact patch), which
   // keeps its support polygon: a bunny resting on a table touches with hundreds of
@@ -70,6 +74,7 @@ struct StepReport {
   double kkt_residual_m_s = 0;  // worst over the step's solves
   double max_penetration_m = 0; // deepest overlap among the contacts (0: none)
   int solver_iterations = 0;
+  int launches_prevented = 0;   // bodies the launch guard held back (a solver failure, reported)
 };
 
 // A meeting the CCD found inside a step: the point, fixed in each body, and A's normal

@@ -65,6 +65,10 @@ int SimulatorCore::on_tracking(const TrackingFrame& frame) {
   for (const TrackedObject& object : frame.objects) {
     auto driver = drivers_.find(object.object_id);
     if (driver == drivers_.end()) {
+      // A static real object (the table) fixes the world frame: the tracker reports it,
+      // the simulator has nothing to move.
+      const config::ObjectConfig* config = scene_.find_object(object.object_id);
+      if (config && config->role == config::Role::kReal && config->motion == config::Motion::kStatic) continue;
       reject(scene_.find_object(object.object_id) ? "object '" + object.object_id + "' is not a tracked kinematic object"
                                                   : "unknown object '" + object.object_id + "'");
       continue;

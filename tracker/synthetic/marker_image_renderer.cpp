@@ -85,7 +85,19 @@ cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacem
     const Eigen::Vector3d t = m.X_CM.translation();
     const cv::Matx33d Rt(R(0, 0), R(0, 1), t.x(), R(1, 0), R(1, 1), t.y(), R(2, 0), R(2, 1), t.z());
     const cv::Matx33d H = to_canvas * camera.K * Rt * plane;
-    cv::warpPerspective(texture, canvas, cv::Mat(H), canvas.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+    // Warp only into the marker's bounding box: the canvas is 16x the frame's pixels.
+    std::vector<cv::Point2d> texture_corners{{-0.5, -0.5}, {texture.cols - 0.5, -0.5},
+                                             {texture.cols - 0.5, texture.rows - 0.5}, {-0.5, texture.rows - 0.5}};
+    std::vector<cv::Point2d> canvas_corners;
+    cv::perspectiveTransform(texture_corners, canvas_corners, cv::Mat(H));
+    cv::Rect2d bounds = cv::boundingRect(std::vector<cv::Point2f>(canvas_corners.begin(), canvas_corners.end()));
+    const cv::Rect roi = cv::Rect(static_cast<int>(std::floor(bounds.x)) - 2, static_cast<int>(std::floor(bounds.y)) - 2,
+                                  static_cast<int>(std::ceil(bounds.width)) + 5, static_cast<int>(std::ceil(bounds.height)) + 5) &
+                         cv::Rect(0, 0, canvas.cols, canvas.rows);
+    if (roi.area() <= 0) continue;
+    const cv::Matx33d shift(1, 0, -roi.x, 0, 1, -roi.y, 0, 0, 1);
+    cv::Mat target = canvas(roi);
+    cv::warpPerspective(texture, target, cv::Mat(shift * H), roi.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
   }
   cv::Mat image;
   cv::resize(canvas, image, base.size(), 0, 0, cv::INTER_AREA);

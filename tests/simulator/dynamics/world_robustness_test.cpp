@@ -84,6 +84,29 @@ TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
   EXPECT_TRUE(infeasible);
 }
 
+// The launch guard: whatever the solver returns, no body leaves a step non-finite or
+// faster than the limits. Forced here by limits far below what gravity alone gives.
+TEST(WorldRobustness, LaunchGuardBoundsEverySolvedVelocity) {
+  WorldOptions options;
+  options.max_body_speed_m_s = 0.5;
+  options.max_body_angular_speed_rad_s = 1.0;
+  World world(options);
+  world.add_body(plane_body());
+  RigidBody falling = cube("falling", {0, 0, 0.6});
+  falling.v_WC_m_s = Eigen::Vector3d(0, 0, -3.0);  // faster than the limit, into the floor
+  falling.w_W_rad_s = Eigen::Vector3d(0, 5.0, 0);
+  world.add_body(falling);
+  int prevented = 0;
+  for (int i = 0; i < 100; ++i) {
+    const StepReport r = world.step(0.01);
+    prevented += r.launches_prevented;
+    const RigidBody& b = world.bodies()[1];
+    ASSERT_TRUE(b.X_WB.matrix().allFinite());
+  }
+  EXPECT_GT(prevented, 0);
+  EXPECT_GT(world.bodies()[1].X_WB.translation().z(), 0.05);  // on the floor, not through it
+}
+
 TEST(WorldRobustness, EventsPerStepAreCapped) {
   WorldOptions options;
   options.max_events_per_step = 2;

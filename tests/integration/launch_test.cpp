@@ -1,0 +1,47 @@
+// The pipeline through its launcher: synthetic camera, tracker, simulator and renderer
+// on real LCM for a few seconds; every frame crosses every stage, the overlay video and
+// the latency report are written, and the run ends with exit code 0.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "lcm/lcm-cpp.hpp"
+
+namespace {
+
+TEST(Launch, RunsApplicationTwoAndReportsLatency) {
+  const std::string url = "udpm://239.255.76.67:7996?ttl=0";
+  {
+    lcm::LCM probe(url);
+    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  }
+  const std::string out = ::testing::TempDir() + "launch_test";
+  std::filesystem::remove_all(out);
+  const std::string command = std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
+                              "/tools/arphys-launch " + ARPHYS_SOURCE_DIR +
+                              "/configs/scenes/bunny_box_table.yaml --duration 4 --record --lcm-url " + url +
+                              " --out " + out + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  ASSERT_EQ(WEXITSTATUS(pclose(pipe)), 0) << output;
+  ASSERT_TRUE(std::filesystem::exists(out + "/latency.json")) << output;
+  EXPECT_GT(std::filesystem::file_size(out + "/overlay.avi"), 100000u);
+  EXPECT_GT(std::filesystem::file_size(out + "/run.lcmlog"), 100000u);
+  nlohmann::json report;
+  std::ifstream(out + "/latency.json") >> report;
+  const int captured = report["frames"]["captured"];
+  EXPECT_GE(captured, 100);  // 4 s at 30 FPS
+  EXPECT_GE(report["frames"]["tracked"].get<int>(), captured - 3);
+  EXPECT_GE(report["frames"]["rendered"].get<int>(), captured - 3);
+  EXPECT_GE(report["stages"]["pose_to_world_state"]["count"].get<int>(), captured - 5);
+  EXPECT_GT(report["stages"]["capture_to_overlay"]["p50_ms"].get<double>(), 0.0);
+  std::filesystem::remove_all(out);
+}
+
+}  // namespace

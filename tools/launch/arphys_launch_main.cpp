@@ -1,0 +1,337 @@
+// arphys-launch: the pipeline with one command. Starts the processes of a scene (the
+// synthetic camera or a real source, the tracker, the simulator, the renderer, and
+// optionally lcm-logger), spawns virtual objects as a user would, prints a status line
+// per process from their heartbeats, measures latency per stage from the messages
+// themselves, stops everything cleanly, and exits non-zero naming a process that died.
+#include <CLI/CLI.hpp>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <csignal>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "arphys/image_t.hpp"
+#include "arphys/marker_detections_t.hpp"
+#include "arphys/object_poses_t.hpp"
+#include "arphys/process_status_t.hpp"
+#include "arphys/render_status_t.hpp"
+#include "arphys/sim_command_t.hpp"
+#include "arphys/world_state_t.hpp"
+#include "configs/loader/camera_script.hpp"
+#include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/pose_conversions.hpp"
+
+extern char** environ;
+
+namespace {
+
+using namespace arphys;
+
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
+struct Child {
+  std::string name;
+  pid_t pid = -1;
+  bool exited = false;
+  int status = 0;
+};
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (!log_path.empty()) {
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  }
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = -1;
+  if (posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+// Per-stage latency samples, milliseconds.
+struct Stage {
+  std::string name;
+  std::vector<double> samples_ms;
+  nlohmann::json summary() const {
+    nlohmann::json j;
+    j["count"] = samples_ms.size();
+    if (samples_ms.empty()) return j;
+    std::vector<double> v = samples_ms;
+    std::sort(v.begin(), v.end());
+    auto q = [&](double p) { return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))]; };
+    j["p50_ms"] = q(0.5);
+    j["p95_ms"] = q(0.95);
+    j["p99_ms"] = q(0.99);
+    j["max_ms"] = v.back();
+    return j;
+  }
+};
+
+std::string default_script_for(const config::SceneConfig& scene) {
+  const std::string dir = config::default_config_dir() + "/synthetic/";
+  if (scene.name == "bunny_box_table") return dir + "box_push.yaml";
+  if (scene.name == "spoon_teacup") return dir + "spoon_approach.yaml";
+  return "";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"arphys-launch: the synthetic camera (or a real source), tracker, simulator and renderer of a scene,\n"
+               "started together, watched, measured and stopped together."};
+  std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
+  std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
+  double duration_s = 20, spawn_every_s = 1.0;
+  bool record = false;
+  app.add_option("scene", scene_path, "scene YAML")->capture_default_str();
+  app.add_option("--camera", camera, "synthetic (the scene's camera script), /dev/videoN, or a video file")
+      ->capture_default_str();
+  app.add_option("--script", script_path, "camera script for --camera synthetic (default: the scene's, "
+                                          "configs/synthetic/box_push.yaml or spoon_approach.yaml)");
+  app.add_option("--tracker", tracker_impl, "tracker implementation")->check(CLI::IsMember({"apriltag", "aruco"}))
+      ->capture_default_str();
+  app.add_option("--duration", duration_s, "seconds to run")->capture_default_str();
+  app.add_option("--out", out_dir, "write overlay.avi, latency.json, process logs (and run.lcmlog) here");
+  app.add_flag("--record", record, "record all traffic with lcm-logger to OUT/run.lcmlog");
+  app.add_option("--only", only, "comma-separated subset to start: camera,tracker,simulator,renderer (other machines "
+                                 "run the rest)");
+  app.add_option("--spawn-every", spawn_every_s, "spawn the scene's first dynamic virtual model every S seconds, "
+                                                 "thrown onto the table (0: none)")->capture_default_str();
+  app.add_option("--lcm-url", url, "LCM URL for every process (default: the scene's)");
+  app.add_option("--build", build_dir, "build directory holding the executables")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  config::SceneConfig scene;
+  config::CameraScriptConfig script;
+  try {
+    scene = config::load_scene(scene_path);
+    if (camera == "synthetic") {
+      if (script_path.empty()) script_path = default_script_for(scene);
+      if (script_path.empty()) throw std::invalid_argument("scene " + scene.name + " has no default camera script: give --script");
+      script = config::load_camera_script(script_path);
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-launch: %s\n", e.what());
+    return 2;
+  }
+  if (url.empty()) url = scene.lcm_url;
+  auto wanted = [&](const std::string& name) { return only.empty() || ("," + only + ",").find("," + name + ",") != std::string::npos; };
+  if (!out_dir.empty()) std::filesystem::create_directories(out_dir);
+  auto log_of = [&](const std::string& name) { return out_dir.empty() ? std::string() : out_dir + "/" + name + ".log"; };
+  // Children outlive the run; the launcher stops them, so any earlier exit is a death.
+  const std::string seconds = std::to_string(duration_s + 30);
+
+  std::unique_ptr<msg::Bus> bus;
+  try {
+    bus = std::make_unique<msg::Bus>(url);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-launch: %s\n", e.what());
+    return 2;
+  }
+  // Watch everything from the start.
+  std::map<int64_t, int64_t> image_seen;  // capture utime -> 1
+  std::map<int64_t, arphys::marker_detections_t> detections;
+  std::map<int64_t, int64_t> poses_publish, world_publish;
+  Stage capture_to_detection{"capture_to_detection", {}}, detection_to_pose{"detection_to_pose", {}},
+      pose_to_world{"pose_to_world_state", {}}, world_to_overlay{"world_state_to_overlay", {}},
+      end_to_end{"capture_to_overlay", {}};
+  int64_t images = 0, poses = 0, renders = 0, renders_exact = 0;
+  std::map<std::string, arphys::process_status_t> heartbeats;
+  bus->subscribe<arphys::image_t>(scene.channels.camera_image, [&](const arphys::image_t& m, const lcm::ReceiveBuffer&,
+                                                                  const std::string&) {
+    ++images;
+    image_seen[m.utime] = 1;
+  });
+  bus->subscribe<arphys::marker_detections_t>(scene.channels.marker_detections,
+                                              [&](const arphys::marker_detections_t& m, const lcm::ReceiveBuffer&,
+                                                  const std::string&) {
+                                                capture_to_detection.samples_ms.push_back(1e-3 * (m.detect_end_utime - m.utime));
+                                              });
+  bus->subscribe<arphys::object_poses_t>(scene.channels.object_poses, [&](const arphys::object_poses_t& m,
+                                                                         const lcm::ReceiveBuffer&, const std::string&) {
+    ++poses;
+    detection_to_pose.samples_ms.push_back(1e-3 * (m.publish_utime - m.detect_end_utime));
+    poses_publish[m.utime] = m.publish_utime;
+  });
+  bus->subscribe<arphys::world_state_t>(scene.channels.world_state, [&](const arphys::world_state_t& m,
+                                                                       const lcm::ReceiveBuffer&, const std::string&) {
+    if (m.utime == 0 || world_publish.count(m.utime)) return;  // the first state computed from a frame
+    world_publish[m.utime] = m.publish_utime;
+    const auto p = poses_publish.find(m.utime);
+    if (p != poses_publish.end()) pose_to_world.samples_ms.push_back(1e-3 * (m.publish_utime - p->second));
+  });
+  bus->subscribe<arphys::render_status_t>(scene.channels.render_status, [&](const arphys::render_status_t& m,
+                                                                           const lcm::ReceiveBuffer&, const std::string&) {
+    ++renders;
+    end_to_end.samples_ms.push_back(1e-3 * (m.render_end_utime - m.utime));
+    if (m.world_state_match == arphys::render_status_t::MATCH_EXACT) {
+      ++renders_exact;
+      const auto w = world_publish.find(m.utime);
+      if (w != world_publish.end()) world_to_overlay.samples_ms.push_back(1e-3 * (m.render_end_utime - w->second));
+    }
+  });
+  bus->subscribe<arphys::process_status_t>(scene.channels.process_status, [&](const arphys::process_status_t& m,
+                                                                             const lcm::ReceiveBuffer&, const std::string&) {
+    heartbeats[m.name] = m;
+  });
+
+  std::vector<Child> children;
+  auto start_child = [&](const std::string& name, const std::vector<std::string>& args) {
+    Child c;
+    c.name = name;
+    c.pid = spawn(args, log_of(name));
+    if (c.pid <= 0) {
+      std::fprintf(stderr, "arphys-launch: cannot start %s (%s)\n", name.c_str(), args[0].c_str());
+      g_stop = true;
+    }
+    children.push_back(c);
+  };
+  const std::string b = build_dir;
+  if (record && !out_dir.empty()) start_child("recorder", {"lcm-logger", "--lcm-url=" + url, "--force", out_dir + "/run.lcmlog"});
+  if (wanted("simulator")) start_child("simulator", {b + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url, "--duration", seconds});
+  if (wanted("renderer")) {
+    std::vector<std::string> args{b + "/renderer/app/renderer", "--scene", scene.file, "--lcm-url", url, "--duration", seconds};
+    if (!out_dir.empty()) {
+      args.insert(args.end(), {"--video", out_dir + "/overlay.avi", "--png-dir", out_dir + "/snapshots", "--png-every", "90"});
+    }
+    if (camera == "synthetic") {
+      const auto t = script.X_WC.translation();
+      const auto q = Eigen::Quaterniond(script.X_WC.linear());
+      std::ostringstream pose;
+      pose << t.x() << " " << t.y() << " " << t.z() << " " << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
+      args.insert(args.end(), {"--camera-pose", pose.str()});
+    }
+    start_child("renderer", args);
+  }
+  if (wanted("tracker")) {
+    std::vector<std::string> args{b + "/tracker/app/tracker", "--scene", scene.file, "--lcm-url", url, "--impl", tracker_impl,
+                                  "--duration", seconds};
+    if (camera != "synthetic") args.insert(args.end(), {"--source", camera});
+    start_child("tracker", args);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let subscribers join before frames flow
+  if (camera == "synthetic" && wanted("camera")) {
+    start_child("camera", {b + "/tools/synthetic_camera/arphys-synthetic-camera", script.file, "--lcm-url", url,
+                           "--duration", std::to_string(duration_s)});
+  }
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+
+  // The first dynamic virtual model is what a user throws in (the bunny).
+  std::string spawn_model;
+  for (const auto& o : scene.objects) {
+    if (o.role == config::Role::kVirtual && o.motion == config::Motion::kDynamic) {
+      spawn_model = o.id;
+      break;
+    }
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> spread(-0.15, 0.15);
+  int64_t spawn_seq = 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto last_line = start, last_spawn = start;
+  std::string died;
+  while (!g_stop) {
+    bus->handle_timeout_ms(20);
+    bus->handle_pending();
+    const auto now = std::chrono::steady_clock::now();
+    const double elapsed = std::chrono::duration<double>(now - start).count();
+    if (elapsed > duration_s + 2.5) break;
+    for (auto& c : children) {
+      if (c.exited || c.pid <= 0) continue;
+      if (waitpid(c.pid, &c.status, WNOHANG) == c.pid) {
+        c.exited = true;
+        const bool expected = c.name == "camera" && WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0;
+        if (!expected && died.empty()) died = c.name;
+      }
+    }
+    if (!died.empty()) break;
+    if (!spawn_model.empty() && spawn_every_s > 0 && wanted("simulator") &&
+        std::chrono::duration<double>(now - last_spawn).count() >= spawn_every_s && elapsed < duration_s) {
+      arphys::sim_command_t c{};
+      c.utime = msg::now_utime();
+      c.seq = ++spawn_seq;
+      c.sender = "arphys-launch";
+      c.command = arphys::sim_command_t::COMMAND_SPAWN;
+      c.model = spawn_model;
+      c.X_WB = msg::to_message(geometry::make_pose({spread(rng), -0.25, 0.25}, {0.7071067811865476, 0.7071067811865476, 0, 0}));
+      const double v[3] = {spread(rng), 0.3, 0.0};
+      std::copy(v, v + 3, c.v_WB_m_s);
+      bus->publish(scene.channels.sim_command, c);
+      last_spawn = now;
+    }
+    if (now - last_line >= std::chrono::seconds(1)) {
+      std::ostringstream line;
+      line.setf(std::ios::fixed);
+      line.precision(1);
+      line << "t " << elapsed << " s";
+      for (const auto& [name, s] : heartbeats) {
+        line << " | " << name << " " << s.rate_hz << " Hz " << s.stage_duration_ms << " ms";
+        if (s.dropped) line << " drop " << s.dropped;
+        if (s.rejected) line << " rej " << s.rejected;
+      }
+      std::fprintf(stderr, "%s\n", line.str().c_str());
+      last_line = now;
+    }
+  }
+  for (auto& c : children) {
+    if (!c.exited && c.pid > 0) kill(c.pid, SIGTERM);
+  }
+  for (auto& c : children) {
+    if (!c.exited && c.pid > 0) waitpid(c.pid, &c.status, 0);
+  }
+
+  nlohmann::json report;
+  report["scene"] = scene.name;
+  report["tracker"] = tracker_impl;
+  report["duration_s"] = duration_s;
+  for (const Stage* s : {&capture_to_detection, &detection_to_pose, &pose_to_world, &world_to_overlay, &end_to_end}) {
+    report["stages"][s->name] = s->summary();
+  }
+  report["frames"] = {{"captured", images}, {"tracked", poses}, {"rendered", renders}, {"rendered_with_own_world_state", renders_exact},
+                      {"dropped_before_overlay", std::max<int64_t>(0, images - renders)}};
+  std::printf("%-26s %7s %8s %8s %8s %8s\n", "stage", "count", "p50_ms", "p95_ms", "p99_ms", "max_ms");
+  for (const auto& [name, j] : report["stages"].items()) {
+    if (j["count"] == 0) {
+      std::printf("%-26s %7d\n", name.c_str(), 0);
+      continue;
+    }
+    std::printf("%-26s %7d %8.2f %8.2f %8.2f %8.2f\n", name.c_str(), j["count"].get<int>(), j["p50_ms"].get<double>(),
+                j["p95_ms"].get<double>(), j["p99_ms"].get<double>(), j["max_ms"].get<double>());
+  }
+  std::printf("frames: %lld captured, %lld tracked, %lld rendered (%lld with their own world state)\n",
+              static_cast<long long>(images), static_cast<long long>(poses), static_cast<long long>(renders),
+              static_cast<long long>(renders_exact));
+  if (!out_dir.empty()) {
+    std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
+    std::printf("written: %s/overlay.avi, %s/latency.json%s\n", out_dir.c_str(), out_dir.c_str(),
+                record ? (", " + out_dir + "/run.lcmlog").c_str() : "");
+  }
+  if (!died.empty()) {
+    std::fprintf(stderr, "arphys-launch: %s died unexpectedly%s\n", died.c_str(),
+                 out_dir.empty() ? "" : (" (see " + log_of(died) + ")").c_str());
+    return 1;
+  }
+  return 0;
+}
