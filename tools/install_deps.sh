@@ -13,7 +13,7 @@ build=(
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2)
-benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox)
+benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
 
 if [[ "${1:-}" == "--print" ]]; then

@@ -36,8 +36,10 @@
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "renderer/drawing/overlay_renderer.hpp"
+#include "renderer/output/video_file.hpp"
 #include "renderer/process/world_state_matcher.hpp"
 #include "renderer/scene/scene_models.hpp"
 #include "renderer/scene/view.hpp"
@@ -300,8 +302,6 @@ int main(int argc, char** argv) {
     }
     bus->publish(scene.channels.sim_command, c);
   };
-  char host[256] = "unknown";
-  gethostname(host, sizeof host - 1);
   std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, %s, LCM %s\n", scene.name.c_str(),
                camera_path.c_str(), projection.width_px, projection.height_px, to_string(policy),
                renderer->describe().c_str(), bus->url().c_str());
@@ -364,10 +364,11 @@ int main(int argc, char** argv) {
         cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
         if (!video.empty()) {
           if (!writer.isOpened()) {
-            const bool mp4 = video.size() > 4 && video.substr(video.size() - 4) == ".mp4";
-            writer.open(video, cv::VideoWriter::fourcc(mp4 ? 'm' : 'M', mp4 ? 'p' : 'J', mp4 ? '4' : 'P', mp4 ? 'v' : 'G'), 30,
-                        overlay.size());
-            if (!writer.isOpened()) bad.note("video file cannot be written", video);
+            try {
+              writer = open_video_file(video, 30, overlay.size(), true);
+            } catch (const std::exception& e) {
+              bad.note("video file cannot be written", e.what());
+            }
           }
           if (writer.isOpened()) writer.write(overlay);
         }
@@ -417,29 +418,18 @@ int main(int argc, char** argv) {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_status >= std::chrono::seconds(1)) {
       const double window_s = std::chrono::duration<double>(now - last_status).count();
-      arphys::process_status_t status{};
-      status.utime = msg::now_utime();
-      status.name = "renderer";
-      status.implementation = renderer->describe();
-      status.host = host;
-      status.pid = getpid();
-      status.uptime_s = std::chrono::duration<double>(now - start).count();
+      arphys::process_status_t status =
+          msg::heartbeat("renderer", renderer->describe(), std::chrono::duration<double>(now - start).count(), *bus);
       status.rate_hz = rendered_since_status / window_s;
       status.stage_duration_ms = rendered_since_status ? render_ms_since_status / rendered_since_status : 0.0;
-      status.received = bus->counters().received;
       status.published = published;
       status.dropped = frames_dropped;
-      status.decode_errors = bus->counters().decode_errors + bad.counts["undecodable image"];
-      status.rejected = bus->counters().rejected + bad.total() - bad.counts["undecodable image"];
+      status.decode_errors += bad.counts["undecodable image"];
+      status.rejected += bad.total() - bad.counts["undecodable image"];
       status.state = rendered_since_status == 0 ? "waiting for camera frames"
                                                 : (states.empty() ? "drawing camera frames only: no world state" : "rendering");
-      for (const auto& [kind, count] : bad.counts) {
-        status.figure_names.push_back(kind);
-        status.figure_values.push_back(static_cast<double>(count));
-      }
-      status.figure_names.push_back("frames_without_world_state");
-      status.figure_values.push_back(static_cast<double>(without_world));
-      status.num_figures = static_cast<int32_t>(status.figure_names.size());
+      for (const auto& [kind, count] : bad.counts) msg::add_figure(status, kind, static_cast<double>(count));
+      msg::add_figure(status, "frames_without_world_state", static_cast<double>(without_world));
       bus->publish(scene.channels.process_status, status);
       last_status = now;
       rendered_since_status = 0;

@@ -22,6 +22,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "simulator/process/simulator_core.hpp"
 
@@ -171,8 +172,6 @@ int main(int argc, char** argv) {
   auto last_status = start;
   int64_t published = 0, steps_since_status = 0;
   double stage_ms_since_status = 0;
-  char host[256] = "unknown";
-  gethostname(host, sizeof host - 1);
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
                scene.name.c_str(), core->world().bodies().size(), scene.time_step_s, clock.c_str(),
                sim::to_string(options.policy), bus->url().c_str());
@@ -197,19 +196,13 @@ int main(int argc, char** argv) {
     const auto now = std::chrono::steady_clock::now();
     if (now - last_status >= std::chrono::seconds(1)) {
       const double window_s = std::chrono::duration<double>(now - last_status).count();
-      arphys::process_status_t status{};
-      status.utime = msg::now_utime();
-      status.name = "simulator";
-      status.implementation = std::string("gauss-ccd/") + (scene.solver == "exact" ? "exact" : "iterative");
-      status.host = host;
-      status.pid = getpid();
-      status.uptime_s = std::chrono::duration<double>(now - start).count();
+      arphys::process_status_t status =
+          msg::heartbeat("simulator", std::string("gauss-ccd/") + (scene.solver == "exact" ? "exact" : "iterative"),
+                         std::chrono::duration<double>(now - start).count(), *bus);
       status.rate_hz = steps_since_status / window_s;
       status.stage_duration_ms = steps_since_status ? stage_ms_since_status / steps_since_status : 0.0;
-      status.received = bus->counters().received;
       status.published = published;
-      status.decode_errors = bus->counters().decode_errors;
-      status.rejected = bus->counters().rejected + core->rejected_total();
+      status.rejected += core->rejected_total();
       const auto lost = core->lost_objects();
       status.state = core->paused() ? "paused" : (lost.empty() ? "running" : "running, lost: " + lost.front());
       bus->publish(scene.channels.process_status, status);

@@ -18,6 +18,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
+#include "tests/support/image_messages.hpp"
 #include "tests/support/spawn_process.hpp"
 
 namespace {
@@ -25,16 +26,7 @@ namespace {
 const std::string kUrl = "udpm://239.255.76.67:7994?ttl=0";
 
 arphys::image_t jpeg_frame(const cv::Mat& grey, int64_t utime, int64_t seq) {
-  arphys::image_t m{};
-  m.utime = utime;
-  m.seq = seq;
-  m.camera_id = "synthetic";
-  m.width = grey.cols;
-  m.height = grey.rows;
-  m.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-  cv::imencode(".jpg", grey, m.data, {cv::IMWRITE_JPEG_QUALITY, 95});
-  m.size = static_cast<int32_t>(m.data.size());
-  return m;
+  return arphys::testing::jpeg_image(grey, utime, seq);
 }
 
 arphys::body_state_t body(const std::string& id, const std::string& model, const Eigen::Vector3d& p) {

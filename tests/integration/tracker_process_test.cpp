@@ -19,6 +19,7 @@
 #include "configs/loader/camera_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "tests/support/image_messages.hpp"
 #include "tests/support/spawn_process.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
@@ -29,19 +30,8 @@ const std::string kImages = "TRACKER_TEST_IMAGES";
 const std::string kTracker = std::string(ARPHYS_BINARY_DIR) + "/tracker/app/tracker";
 const std::string kCamera = std::string(ARPHYS_SOURCE_DIR) + "/configs/cameras/synthetic_640x480.yaml";
 
-// JPEG: a raw 640x480 frame (300 KB) exceeds the default socket receive buffer
-// (net.core.rmem_default, 208 KB) and LCM drops it whole.
-arphys::image_t image_message(const cv::Mat& gray, int64_t seq) {
-  arphys::image_t m{};
-  m.utime = arphys::msg::now_utime();
-  m.seq = seq;
-  m.camera_id = "synthetic";
-  m.width = gray.cols;
-  m.height = gray.rows;
-  m.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-  cv::imencode(".jpg", gray, m.data, {cv::IMWRITE_JPEG_QUALITY, 95});
-  m.size = static_cast<int32_t>(m.data.size());
-  return m;
+arphys::image_t image_message(const cv::Mat& grey, int64_t seq) {
+  return arphys::testing::jpeg_image(grey, arphys::msg::now_utime(), seq);
 }
 
 pid_t start_tracker(const std::string& impl, const std::string& name) {

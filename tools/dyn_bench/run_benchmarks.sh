@@ -3,15 +3,8 @@
 # and draws its charts.   tools/dyn_bench/run_benchmarks.sh [--quick]
 # Writes docs/results/dyn/dyn_<scene>.csv, the printed tables (dyn_bench.txt) and PNGs.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-build="${ARPHYS_BUILD_DIR:-$root/build}"
-out="$root/docs/results/dyn"
-mkdir -p "$out"
-bench="$build/tools/dyn_bench/arphys-dyn-bench"
-if [[ ! -x "$bench" ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$build" --target arphys-dyn-bench -j"$(nproc)"
-fi
+source "$(dirname "$0")/../bench_common.sh"
+bench_setup dyn arphys-dyn-bench
 "$bench" --out "$out" "$@" | tee "$out/dyn_bench.txt"
 gnuplot -e "drop='$out/dyn_drop.csv'; outdir='$out'" "$root/tools/dyn_bench/dyn_charts.gp"
 echo "charts: $out/dyn_drop_timing.png $out/dyn_accuracy_speed.png" >&2

@@ -27,6 +27,7 @@
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "renderer/drawing/overlay_renderer.hpp"
+#include "renderer/output/video_file.hpp"
 #include "renderer/scene/scene_models.hpp"
 #include "simulator/geometry/screw_motion.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
@@ -142,11 +143,10 @@ int main(int argc, char** argv) {
 
     if (!video.empty()) {
       if (!writer.isOpened()) {
-        const bool mp4 = video.size() > 4 && video.substr(video.size() - 4) == ".mp4";
-        writer.open(video, cv::VideoWriter::fourcc(mp4 ? 'm' : 'M', mp4 ? 'p' : 'J', mp4 ? '4' : 'P', mp4 ? 'v' : 'G'),
-                    script.frame_rate_hz, frame.size(), false);
-        if (!writer.isOpened()) {
-          std::fprintf(stderr, "arphys-synthetic-camera: cannot write video %s\n", video.c_str());
+        try {
+          writer = rendering::open_video_file(video, script.frame_rate_hz, frame.size(), false);
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "arphys-synthetic-camera: %s\n", e.what());
           return 2;
         }
       }

@@ -4,15 +4,8 @@
 # Writes docs/results/track/track_{sweep,sequence,frames}.csv, the printed table
 # (track_bench.txt), the summary tables (track_tables.md) and PNG charts.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-build="${ARPHYS_BUILD_DIR:-$root/build}"
-out="$root/docs/results/track"
-mkdir -p "$out"
-bench="$build/tools/track_bench/arphys-track-bench"
-if [[ ! -x "$bench" ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build "$build" --target arphys-track-bench -j"$(nproc)"
-fi
+source "$(dirname "$0")/../bench_common.sh"
+bench_setup track arphys-track-bench
 "$bench" --out "$out" "$@" | tee "$out/track_bench.txt"
 python3 "$root/tools/track_bench/track_tables.py" "$out"
 gnuplot -e "outdir='$out'" "$root/tools/track_bench/track_charts.gp"

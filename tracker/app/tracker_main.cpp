@@ -18,6 +18,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "tracker/app/lcm_image_source.hpp"
 #include "tracker/app/tracker_output.hpp"
 #include "tracker/detection/marker_detector.hpp"
@@ -169,8 +170,6 @@ int main(int argc, char** argv) {
                frames->describe().c_str(), camera_path.c_str(), camera_config.width_px, camera_config.height_px,
                pipeline->tracker().model().objects.size(), pipeline->detector().describe().c_str(),
                bus ? (", LCM " + bus->url()).c_str() : "");
-  char host[256] = "unknown";
-  gethostname(host, sizeof host - 1);
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start;
   int64_t frame_index = 0, published = 0, frames_since_status = 0;
@@ -211,20 +210,14 @@ int main(int argc, char** argv) {
     if (bus && after - last_status >= std::chrono::seconds(1)) {
       const double window_s = std::chrono::duration<double>(after - last_status).count();
       const auto& c = pipeline->counters();
-      arphys::process_status_t status{};
-      status.utime = msg::now_utime();
-      status.name = name;
-      status.implementation = pipeline->detector().describe();
-      status.host = host;
-      status.pid = getpid();
-      status.uptime_s = std::chrono::duration<double>(after - start).count();
+      arphys::process_status_t status =
+          msg::heartbeat(name, pipeline->detector().describe(), std::chrono::duration<double>(after - start).count(), *bus);
       status.rate_hz = frames_since_status / window_s;
       status.stage_duration_ms = frames_since_status ? detect_ms_since_status / frames_since_status : 0.0;
-      status.received = bus->counters().received;
       status.published = published;
       status.dropped = lcm_frames ? lcm_frames->dropped_frames() : 0;
-      status.decode_errors = bus->counters().decode_errors + frames->skipped_frames();
-      status.rejected = bus->counters().rejected + c.wrong_size + c.wrong_format;
+      status.decode_errors += frames->skipped_frames();
+      status.rejected += c.wrong_size + c.wrong_format;
       status.state = frames_since_status ? "tracking" : "waiting for frames";
       const std::vector<std::pair<std::string, double>> figures = {
           {"frames", static_cast<double>(c.frames)},
@@ -233,11 +226,7 @@ int main(int argc, char** argv) {
           {"unknown_markers", static_cast<double>(c.unknown_markers)},
           {"detector_switches", static_cast<double>(c.detector_switches)},
           {"rejected_controls", static_cast<double>(c.rejected_controls)}};
-      for (const auto& [n, v] : figures) {
-        status.figure_names.push_back(n);
-        status.figure_values.push_back(v);
-      }
-      status.num_figures = static_cast<int32_t>(figures.size());
+      for (const auto& [n, v] : figures) msg::add_figure(status, n, v);
       bus->publish(scene.channels.process_status, status);
       last_status = after;
       frames_since_status = 0;

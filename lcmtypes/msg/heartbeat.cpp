@@ -1,0 +1,32 @@
+#include "lcmtypes/msg/heartbeat.hpp"
+
+#include <unistd.h>
+
+#include "lcmtypes/msg/clock.hpp"
+
+namespace arphys::msg {
+
+arphys::process_status_t heartbeat(const std::string& name, const std::string& implementation, double uptime_s,
+                                   const Bus& bus) {
+  arphys::process_status_t status{};
+  status.utime = now_utime();
+  status.name = name;
+  status.implementation = implementation;
+  char host[256] = "unknown";
+  gethostname(host, sizeof host - 1);
+  status.host = host;
+  status.pid = getpid();
+  status.uptime_s = uptime_s;
+  status.received = bus.counters().received;
+  status.decode_errors = bus.counters().decode_errors;
+  status.rejected = bus.counters().rejected;
+  return status;
+}
+
+void add_figure(arphys::process_status_t& status, const std::string& name, double value) {
+  status.figure_names.push_back(name);
+  status.figure_values.push_back(value);
+  status.num_figures = static_cast<int32_t>(status.figure_names.size());
+}
+
+}  // namespace arphys::msg

@@ -1,0 +1,18 @@
+#pragma once
+#include <string>
+
+#include "arphys/process_status_t.hpp"
+#include "lcmtypes/msg/bus.hpp"
+
+namespace arphys::msg {
+
+// The part of a 1 Hz process_status_t every process fills the same way: publish time,
+// name, implementation, host, pid, uptime, and the bus's received / undecodable /
+// rejected counts (a process adds its own refusals, rates and figures).
+arphys::process_status_t heartbeat(const std::string& name, const std::string& implementation, double uptime_s,
+                                   const Bus& bus);
+
+// Appends a named figure (keeps num_figures in step).
+void add_figure(arphys::process_status_t& status, const std::string& name, double value);
+
+}  // namespace arphys::msg

@@ -1,0 +1,15 @@
+# Sourced by the tools/*_bench/run_benchmarks.sh scripts:
+#   bench_setup RESULTS_SUBDIR TARGET   sets root, build, out (created) and bench (built if missing)
+bench_setup() {
+  root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+  build="${ARPHYS_BUILD_DIR:-$root/build}"
+  out="$root/docs/results/$1"
+  mkdir -p "$out"
+  bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x 2>/dev/null | head -n 1)"
+  if [[ -z "$bench" ]]; then
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake --build "$build" --target "$2" -j"$(nproc)"
+    bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x | head -n 1)"
+  fi
+  command -v gnuplot >/dev/null || { echo "gnuplot missing: run tools/install_deps.sh" >&2; exit 1; }
+}
