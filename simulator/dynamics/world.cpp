@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
 #include <limits>
 #include <map>
 #include <stdexcept>
@@ -242,23 +245,44 @@ std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& res
   report.contacts = static_cast<int>(rows.size());
   const std::vector<BodyVelocity> u_unconstrained = u;
   const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver);
-  // Launch guard: a solve that leaves a body non-finite or faster than any contact in
-  // these scenes can make it (a degenerate squeeze, an ill-conditioned frictional
-  // island) must not throw it across the room or poison the world with NaN. Such a body
-  // keeps its unconstrained velocity, capped; the next step's contacts catch it.
+  // Launch guard. Contacts are passive: with restitution <= 1 a solve can at most
+  // reverse (and pass on) the fastest motion among the bodies it couples, plus what
+  // moving non-dynamic bodies and depenetration impose. A body left faster than twice
+  // that (point speed |v| + |w| r), or non-finite, marks a solver failure (a degenerate
+  // squeeze, an ill-conditioned frictional island): it is slowed to the bound, never
+  // launched, never NaN, and counted.
+  std::vector<int> island(u.size());
+  for (std::size_t k = 0; k < u.size(); ++k) island[k] = static_cast<int>(k);
+  const std::function<int(int)> root = [&](int k) { return island[k] == k ? k : island[k] = root(island[k]); };
+  for (const ContactRow& row : rows) {
+    if (row.body_a >= 0 && row.body_b >= 0) island[root(row.body_a)] = root(row.body_b);
+  }
+  std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
+  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
+    if (bodies_[i].is_dynamic()) radius[k++] = bodies_[i].bounding_radius_m();
+  }
+  const auto point_speed = [&](const BodyVelocity& v, std::size_t k) { return v.v_WC_m_s.norm() + v.w_W_rad_s.norm() * radius[k]; };
   for (std::size_t k = 0; k < u.size(); ++k) {
-    const bool finite = u[k].v_WC_m_s.allFinite() && u[k].w_W_rad_s.allFinite();
-    if (finite && u[k].v_WC_m_s.norm() <= options_.max_body_speed_m_s &&
-        u[k].w_W_rad_s.norm() <= options_.max_body_angular_speed_rad_s) {
-      continue;
+    const double speed = point_speed(u_unconstrained[k], k);
+    if (std::isfinite(speed)) island_speed[root(static_cast<int>(k))] = std::max(island_speed[root(static_cast<int>(k))], speed);
+  }
+  for (const ContactRow& row : rows) {
+    const int k = row.body_a >= 0 ? row.body_a : row.body_b;
+    if (k >= 0 && std::isfinite(row.known_normal_velocity_m_s)) {
+      island_speed[root(k)] = std::max(island_speed[root(k)], std::abs(row.known_normal_velocity_m_s));
     }
-    BodyVelocity safe = u_unconstrained[k];
-    if (!safe.v_WC_m_s.allFinite() || !safe.w_W_rad_s.allFinite()) safe = BodyVelocity{};
-    if (safe.v_WC_m_s.norm() > options_.max_body_speed_m_s) safe.v_WC_m_s *= options_.max_body_speed_m_s / safe.v_WC_m_s.norm();
-    if (safe.w_W_rad_s.norm() > options_.max_body_angular_speed_rad_s) {
-      safe.w_W_rad_s *= options_.max_body_angular_speed_rad_s / safe.w_W_rad_s.norm();
+  }
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const double bound = 2.0 * island_speed[root(static_cast<int>(k))] + options_.max_depenetration_speed_m_s +
+                         options_.launch_guard_slack_m_s;
+    const double speed = point_speed(u[k], k);
+    if (std::isfinite(speed) && speed <= bound) continue;
+    if (std::isfinite(speed)) {
+      u[k].v_WC_m_s *= bound / speed;
+      u[k].w_W_rad_s *= bound / speed;
+    } else {
+      u[k] = u_unconstrained[k];
     }
-    u[k] = safe;
     ++report.launches_prevented;
   }
   report.kkt_residual_m_s = std::max(report.kkt_residual_m_s, result.kkt_residual_m_s);

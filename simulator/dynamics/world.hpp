@@ -40,10 +40,9 @@ struct WorldOptions {
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
-  // Launch guard: a contact solve may not leave a body faster than these (see
-  // StepReport::launches_prevented).
-  double max_body_speed_m_s = 20.0;
-  double max_body_angular_speed_rad_s = 200.0;
+  // Launch guard (see World::solve and StepReport::launches_prevented): speed a solve
+  // may add beyond twice the fastest body it couples and the depenetration speed.
+  double launch_guard_slack_m_s = 0.5;
   // A body pair's contact set is reduced to at most this many points when larger (per
   // normal direction: the deepest point and the extremes of the contact patch), which
   // keeps its support polygon: a bunny resting on a table touches with hundreds of
