@@ -1,8 +1,10 @@
-# arphys_add_test(<name> LABEL <unit|integration|slow> SOURCES <...> LIBS <...>)
+# arphys_add_test(<name> LABEL <unit|integration|slow> [SERIAL] SOURCES <...> LIBS <...>)
+# SERIAL: the test measures a running pipeline (frame gaps, counts) and must not share
+# the machine's two cores with another test.
 # One GoogleTest executable per call; every test case is registered with ctest
 # under the given label so `ctest -L unit` etc. select them.
 function(arphys_add_test name)
-  cmake_parse_arguments(ARG "" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT ARG_LABEL MATCHES "^(unit|integration|slow)$")
     message(FATAL_ERROR "arphys_add_test(${name}): LABEL must be unit, integration or slow")
   endif()
@@ -14,7 +16,11 @@ function(arphys_add_test name)
   target_compile_definitions(${name} PRIVATE
     ARPHYS_SOURCE_DIR="${ARPHYS_SOURCE_DIR}"
     ARPHYS_BINARY_DIR="${CMAKE_BINARY_DIR}")
+  set(serial FALSE)
+  if(ARG_SERIAL)
+    set(serial TRUE)
+  endif()
   gtest_discover_tests(${name}
-    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT}
+    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial}
     DISCOVERY_TIMEOUT 60)
 endfunction()
