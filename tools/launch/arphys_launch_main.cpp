@@ -325,6 +325,12 @@ int main(int argc, char** argv) {
               static_cast<long long>(renders_exact));
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
+    // Every sample, for CDF charts (tools/launch/latency_cdf.gp).
+    std::ofstream samples(out_dir + "/latency_samples.csv");
+    samples << "stage,ms\n";
+    for (const Stage* s : {&capture_to_detection, &detection_to_pose, &pose_to_world, &world_to_overlay, &end_to_end}) {
+      for (double ms : s->samples_ms) samples << s->name << "," << ms << "\n";
+    }
     std::printf("written: %s/overlay.avi, %s/latency.json%s\n", out_dir.c_str(), out_dir.c_str(),
                 record ? (", " + out_dir + "/run.lcmlog").c_str() : "");
   }
