@@ -385,9 +385,18 @@ StepReport World::step(double dt_s) {
     for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
       RigidBody& body = bodies_[i];
       if (body.is_dynamic()) {
-        body.X_WB = tau >= 1.0 ? next[i] : geometry::ScrewMotion(body.X_WB, next[i]).pose_at(tau);
-        body.v_WC_m_s = u[k].v_WC_m_s;
-        body.w_W_rad_s = u[k].w_W_rad_s;
+        const geometry::Pose X = tau >= 1.0 ? next[i] : geometry::ScrewMotion(body.X_WB, next[i]).pose_at(tau);
+        if (X.matrix().allFinite() && u[k].v_WC_m_s.allFinite() && u[k].w_W_rad_s.allFinite()) {
+          body.X_WB = X;
+          body.v_WC_m_s = u[k].v_WC_m_s;
+          body.w_W_rad_s = u[k].w_W_rad_s;
+        } else {
+          // Last line of defence: a numerical failure anywhere in the step (solve, CCD
+          // cut, integration) leaves the body where it was, at rest. Never NaN.
+          body.v_WC_m_s.setZero();
+          body.w_W_rad_s.setZero();
+          ++report.launches_prevented;
+        }
         ++k;
       } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
         body.X_WB = body.trajectory.pose_at(time_s_ + elapsed + h);
