@@ -36,6 +36,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
+#include "tools/launch/latency_report.hpp"
 
 extern char** environ;
 
@@ -68,25 +69,6 @@ pid_t spawn(const std::vector<std::string>& args, const std::string& log_path) {
   posix_spawn_file_actions_destroy(&actions);
   return pid;
 }
-
-// Per-stage latency samples, milliseconds.
-struct Stage {
-  std::string name;
-  std::vector<double> samples_ms;
-  nlohmann::json summary() const {
-    nlohmann::json j;
-    j["count"] = samples_ms.size();
-    if (samples_ms.empty()) return j;
-    std::vector<double> v = samples_ms;
-    std::sort(v.begin(), v.end());
-    auto q = [&](double p) { return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))]; };
-    j["p50_ms"] = q(0.5);
-    j["p95_ms"] = q(0.95);
-    j["p99_ms"] = q(0.99);
-    j["max_ms"] = v.back();
-    return j;
-  }
-};
 
 std::string default_script_for(const config::SceneConfig& scene) {
   const std::string dir = config::default_config_dir() + "/synthetic/";
@@ -150,47 +132,22 @@ int main(int argc, char** argv) {
     return 2;
   }
   // Watch everything from the start.
-  std::map<int64_t, int64_t> image_seen;  // capture utime -> 1
-  std::map<int64_t, arphys::marker_detections_t> detections;
-  std::map<int64_t, int64_t> poses_publish, world_publish;
-  Stage capture_to_detection{"capture_to_detection", {}}, detection_to_pose{"detection_to_pose", {}},
-      pose_to_world{"pose_to_world_state", {}}, world_to_overlay{"world_state_to_overlay", {}},
-      end_to_end{"capture_to_overlay", {}};
-  int64_t images = 0, poses = 0, renders = 0, renders_exact = 0;
+  tools::LatencyReport latency;
   std::map<std::string, arphys::process_status_t> heartbeats;
   bus->subscribe<arphys::image_t>(scene.channels.camera_image, [&](const arphys::image_t& m, const lcm::ReceiveBuffer&,
-                                                                  const std::string&) {
-    ++images;
-    image_seen[m.utime] = 1;
-  });
-  bus->subscribe<arphys::marker_detections_t>(scene.channels.marker_detections,
-                                              [&](const arphys::marker_detections_t& m, const lcm::ReceiveBuffer&,
-                                                  const std::string&) {
-                                                capture_to_detection.samples_ms.push_back(1e-3 * (m.detect_end_utime - m.utime));
-                                              });
+                                                                  const std::string&) { latency.on_image(m); });
+  bus->subscribe<arphys::marker_detections_t>(
+      scene.channels.marker_detections,
+      [&](const arphys::marker_detections_t& m, const lcm::ReceiveBuffer&, const std::string&) { latency.on_detections(m); });
   bus->subscribe<arphys::object_poses_t>(scene.channels.object_poses, [&](const arphys::object_poses_t& m,
-                                                                         const lcm::ReceiveBuffer&, const std::string&) {
-    ++poses;
-    detection_to_pose.samples_ms.push_back(1e-3 * (m.publish_utime - m.detect_end_utime));
-    poses_publish[m.utime] = m.publish_utime;
-  });
+                                                                         const lcm::ReceiveBuffer&,
+                                                                         const std::string&) { latency.on_poses(m); });
   bus->subscribe<arphys::world_state_t>(scene.channels.world_state, [&](const arphys::world_state_t& m,
-                                                                       const lcm::ReceiveBuffer&, const std::string&) {
-    if (m.utime == 0 || world_publish.count(m.utime)) return;  // the first state computed from a frame
-    world_publish[m.utime] = m.publish_utime;
-    const auto p = poses_publish.find(m.utime);
-    if (p != poses_publish.end()) pose_to_world.samples_ms.push_back(1e-3 * (m.publish_utime - p->second));
-  });
+                                                                       const lcm::ReceiveBuffer&,
+                                                                       const std::string&) { latency.on_world_state(m); });
   bus->subscribe<arphys::render_status_t>(scene.channels.render_status, [&](const arphys::render_status_t& m,
-                                                                           const lcm::ReceiveBuffer&, const std::string&) {
-    ++renders;
-    end_to_end.samples_ms.push_back(1e-3 * (m.render_end_utime - m.utime));
-    if (m.world_state_match == arphys::render_status_t::MATCH_EXACT) {
-      ++renders_exact;
-      const auto w = world_publish.find(m.utime);
-      if (w != world_publish.end()) world_to_overlay.samples_ms.push_back(1e-3 * (m.render_end_utime - w->second));
-    }
-  });
+                                                                           const lcm::ReceiveBuffer&,
+                                                                           const std::string&) { latency.on_render_status(m); });
   bus->subscribe<arphys::process_status_t>(scene.channels.process_status, [&](const arphys::process_status_t& m,
                                                                              const lcm::ReceiveBuffer&, const std::string&) {
     heartbeats[m.name] = m;
@@ -227,7 +184,7 @@ int main(int argc, char** argv) {
   if (wanted("tracker")) {
     std::vector<std::string> args{b + "/tracker/app/tracker", "--scene", scene.file, "--lcm-url", url, "--impl", tracker_impl,
                                   "--duration", seconds};
-    if (camera != "synthetic") args.insert(args.end(), {"--source", camera});
+    if (camera != "synthetic") args.insert(args.end(), {"--source", camera, "--publish-images"});
     start_child("tracker", args);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let subscribers join before frames flow
@@ -240,9 +197,11 @@ int main(int argc, char** argv) {
 
   // The first dynamic virtual model is what a user throws in (the bunny).
   std::string spawn_model;
+  int64_t spawn_limit = 0;  // the scene's max_instances, less those it starts with
   for (const auto& o : scene.objects) {
     if (o.role == config::Role::kVirtual && o.motion == config::Motion::kDynamic) {
       spawn_model = o.id;
+      spawn_limit = o.max_instances - static_cast<int64_t>(o.spawn_at_start.size());
       break;
     }
   }
@@ -267,7 +226,7 @@ int main(int argc, char** argv) {
       }
     }
     if (!died.empty()) break;
-    if (!spawn_model.empty() && spawn_every_s > 0 && wanted("simulator") &&
+    if (!spawn_model.empty() && spawn_every_s > 0 && wanted("simulator") && spawn_seq < spawn_limit &&
         std::chrono::duration<double>(now - last_spawn).count() >= spawn_every_s && elapsed < duration_s) {
       arphys::sim_command_t c{};
       c.utime = msg::now_utime();
@@ -302,35 +261,14 @@ int main(int argc, char** argv) {
     if (!c.exited && c.pid > 0) waitpid(c.pid, &c.status, 0);
   }
 
-  nlohmann::json report;
+  nlohmann::json report = latency.to_json();
   report["scene"] = scene.name;
   report["tracker"] = tracker_impl;
   report["duration_s"] = duration_s;
-  for (const Stage* s : {&capture_to_detection, &detection_to_pose, &pose_to_world, &world_to_overlay, &end_to_end}) {
-    report["stages"][s->name] = s->summary();
-  }
-  report["frames"] = {{"captured", images}, {"tracked", poses}, {"rendered", renders}, {"rendered_with_own_world_state", renders_exact},
-                      {"dropped_before_overlay", std::max<int64_t>(0, images - renders)}};
-  std::printf("%-26s %7s %8s %8s %8s %8s\n", "stage", "count", "p50_ms", "p95_ms", "p99_ms", "max_ms");
-  for (const auto& [name, j] : report["stages"].items()) {
-    if (j["count"] == 0) {
-      std::printf("%-26s %7d\n", name.c_str(), 0);
-      continue;
-    }
-    std::printf("%-26s %7d %8.2f %8.2f %8.2f %8.2f\n", name.c_str(), j["count"].get<int>(), j["p50_ms"].get<double>(),
-                j["p95_ms"].get<double>(), j["p99_ms"].get<double>(), j["max_ms"].get<double>());
-  }
-  std::printf("frames: %lld captured, %lld tracked, %lld rendered (%lld with their own world state)\n",
-              static_cast<long long>(images), static_cast<long long>(poses), static_cast<long long>(renders),
-              static_cast<long long>(renders_exact));
+  latency.print();
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
-    // Every sample, for CDF charts (tools/launch/latency_cdf.gp).
-    std::ofstream samples(out_dir + "/latency_samples.csv");
-    samples << "stage,ms\n";
-    for (const Stage* s : {&capture_to_detection, &detection_to_pose, &pose_to_world, &world_to_overlay, &end_to_end}) {
-      for (double ms : s->samples_ms) samples << s->name << "," << ms << "\n";
-    }
+    latency.write_samples_csv(out_dir + "/latency_samples.csv");  // for tools/launch/latency_cdf.gp
     std::printf("written: %s/overlay.avi, %s/latency.json%s\n", out_dir.c_str(), out_dir.c_str(),
                 record ? (", " + out_dir + "/run.lcmlog").c_str() : "");
   }

@@ -11,6 +11,9 @@
 #include <cstdio>
 #include <iostream>
 
+#include <opencv2/imgcodecs.hpp>
+
+#include "arphys/image_t.hpp"
 #include "arphys/process_status_t.hpp"
 #include "arphys/tracker_control_t.hpp"
 #include "configs/loader/camera_config.hpp"
@@ -50,7 +53,7 @@ int main(int argc, char** argv) {
   double marker_size_m = 0, fps = 30, camera_fps = 0, predict_s = 0.1, duration_s = 0;
   int width = 0, height = 0;
   int64_t max_frames = 0;
-  bool json = false, print = false, no_lcm = false;
+  bool json = false, print = false, no_lcm = false, publish_images = false;
   app.add_option("--camera", camera_path, "camera calibration (OpenCV YAML); default: the scene's camera, else "
                                           "configs/cameras/synthetic_640x480.yaml");
   app.add_option("--source", source, "video file, image folder (name order), /dev/videoN, or lcm:CHANNEL "
@@ -77,6 +80,8 @@ int main(int argc, char** argv) {
   app.add_flag("--json", json, "print one JSON line per frame on stdout; exit at the end of a file or folder");
   app.add_flag("--print", print, "print a short line per frame on stdout");
   app.add_option("--lcm-url", url, "LCM URL (default: the scene's lcm.url)");
+  app.add_flag("--publish-images", publish_images, "republish the frames of a file or device source on the scene's "
+                                                   "camera image channel (JPEG), for the renderer");
   app.add_flag("--no-lcm", no_lcm, "do not publish on LCM (file and folder sources only)");
   app.add_option("--name", name, "process name, matched by tracker_control_t.target")->capture_default_str();
   app.add_option("--duration", duration_s, "exit after this many seconds (0: until the source ends or SIGINT)");
@@ -192,6 +197,18 @@ int main(int argc, char** argv) {
         return 2;
       }
       first_frame = false;
+      if (bus && publish_images && !lcm_source) {
+        arphys::image_t image{};
+        image.utime = frame->capture_utime;
+        image.seq = frame->seq;
+        image.camera_id = camera_id;
+        image.width = frame->image.cols;
+        image.height = frame->image.rows;
+        image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
+        cv::imencode(".jpg", frame->image, image.data, {cv::IMWRITE_JPEG_QUALITY, 90});
+        image.size = static_cast<int32_t>(image.data.size());
+        bus->publish(scene.channels.camera_image, image);
+      }
       const auto report = pipeline->process(*frame, frames->frames_independent());
       if (report) {
         if (json) std::cout << frame_json(*report, frame_index).dump() << std::endl;
