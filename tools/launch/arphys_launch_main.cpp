@@ -184,7 +184,7 @@ int main(int argc, char** argv) {
   if (wanted("tracker")) {
     std::vector<std::string> args{b + "/tracker/app/tracker", "--scene", scene.file, "--lcm-url", url, "--impl", tracker_impl,
                                   "--duration", seconds};
-    if (camera != "synthetic") args.insert(args.end(), {"--source", camera, "--publish-images"});
+    if (camera != "synthetic") args.insert(args.end(), {"--source", camera, "--publish-images", "--pace"});
     start_child("tracker", args);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let subscribers join before frames flow
@@ -221,7 +221,11 @@ int main(int argc, char** argv) {
       if (c.exited || c.pid <= 0) continue;
       if (waitpid(c.pid, &c.status, WNOHANG) == c.pid) {
         c.exited = true;
-        const bool expected = c.name == "camera" && WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0;
+        // The frame source ends on its own: the synthetic camera after its script, the
+        // tracker at the end of a video file. Anything else leaving early is a death.
+        const bool source = c.name == "camera" || (c.name == "tracker" && camera != "synthetic" &&
+                                                   camera.rfind("/dev/video", 0) != 0);
+        const bool expected = source && WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0;
         if (!expected && died.empty()) died = c.name;
       }
     }

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <thread>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -53,7 +54,7 @@ int main(int argc, char** argv) {
   double marker_size_m = 0, fps = 30, camera_fps = 0, predict_s = 0.1, duration_s = 0;
   int width = 0, height = 0;
   int64_t max_frames = 0;
-  bool json = false, print = false, no_lcm = false, publish_images = false;
+  bool json = false, print = false, no_lcm = false, publish_images = false, pace = false;
   app.add_option("--camera", camera_path, "camera calibration (OpenCV YAML); default: the scene's camera, else "
                                           "configs/cameras/synthetic_640x480.yaml");
   app.add_option("--source", source, "video file, image folder (name order), /dev/videoN, or lcm:CHANNEL "
@@ -82,6 +83,7 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM URL (default: the scene's lcm.url)");
   app.add_flag("--publish-images", publish_images, "republish the frames of a file or device source on the scene's "
                                                    "camera image channel (JPEG), for the renderer");
+  app.add_flag("--pace", pace, "play a file or folder source at its own frame rate instead of as fast as possible");
   app.add_flag("--no-lcm", no_lcm, "do not publish on LCM (file and folder sources only)");
   app.add_option("--name", name, "process name, matched by tracker_control_t.target")->capture_default_str();
   app.add_option("--duration", duration_s, "exit after this many seconds (0: until the source ends or SIGINT)");
@@ -187,6 +189,12 @@ int main(int argc, char** argv) {
     if (bus && !lcm_source) bus->handle_pending();
     std::optional<Frame> frame = frames->next(50);
     if (!frame && frames->finished()) break;
+    if (frame && pace && !lcm_source) {
+      // Frame times of a file count from when it was opened: wait for each one's turn.
+      static const auto paced_start = std::chrono::steady_clock::now();
+      static const int64_t first_utime = frame->capture_utime;
+      std::this_thread::sleep_until(paced_start + std::chrono::microseconds(frame->capture_utime - first_utime));
+    }
     if (frame) {
       if (first_frame && !lcm_source &&
           (frame->image.cols != camera_config.width_px || frame->image.rows != camera_config.height_px)) {
