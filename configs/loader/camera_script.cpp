@@ -29,7 +29,21 @@ geometry::Pose camera_pose(const Reader& r, const YAML::Node& node, const std::s
 
 }  // namespace
 
+namespace {
+CameraScriptConfig load_camera_script_checked(const std::string& path);
+}  // namespace
+
 CameraScriptConfig load_camera_script(const std::string& path) {
+  try {
+    return load_camera_script_checked(path);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, "", std::string("unreadable YAML: ") + e.msg);
+  }
+}
+
+namespace {
+
+CameraScriptConfig load_camera_script_checked(const std::string& path) {
   namespace fs = std::filesystem;
   if (!fs::exists(path)) throw ConfigError(path, 0, "", "file does not exist");
   YAML::Node root;
@@ -76,7 +90,7 @@ CameraScriptConfig load_camera_script(const std::string& path) {
     const YAML::Node t = root["trajectories"];
     if (!t.IsMap()) r.fail(t, "trajectories", "got " + Reader::shown(t) + ", expected a map from object id to keyframes");
     for (const auto& entry : t) {
-      const std::string id = entry.first.as<std::string>();
+      const std::string id = r.key_name(entry.first, "trajectories");
       const std::string key = "trajectories." + id;
       const ObjectConfig* object = script.scene.find_object(id);
       if (!object || object->role != Role::kReal) r.fail(entry.first, key, "no real object '" + id + "' in the scene");
@@ -97,5 +111,7 @@ CameraScriptConfig load_camera_script(const std::string& path) {
   }
   return script;
 }
+
+}  // namespace
 
 }  // namespace arphys::config

@@ -194,7 +194,22 @@ ObjectConfig parse_object(const Reader& r, const YAML::Node& node, const std::st
 
 }  // namespace
 
+namespace {
+SceneConfig load_scene_checked(const std::string& path_in);
+}  // namespace
+
 SceneConfig load_scene(const std::string& path_in) {
+  try {
+    return load_scene_checked(path_in);
+  } catch (const YAML::Exception& e) {
+    // Every expected problem is reported by the Reader; this is the net under it.
+    throw ConfigError(path_in, e.mark.line >= 0 ? e.mark.line + 1 : 0, "", std::string("unreadable YAML: ") + e.msg);
+  }
+}
+
+namespace {
+
+SceneConfig load_scene_checked(const std::string& path_in) {
   const fs::path path = fs::absolute(path_in).lexically_normal();
   if (!fs::is_regular_file(path)) throw ConfigError(path_in, 0, "", "scene file does not exist");
   YAML::Node root;
@@ -228,7 +243,7 @@ SceneConfig load_scene(const std::string& path_in) {
                 {"camera_image", "camera_info", "marker_detections", "object_poses", "world_state", "sim_command",
                  "tracker_control", "render_status", "overlay_image", "process_status", "ground_truth"});
     for (const auto& entry : ch) {
-      const std::string name = entry.first.as<std::string>();
+      const std::string name = r.key_name(entry.first, "channels");
       *fields.at(name) = r.string(entry.second, "channels." + name);
     }
   }
@@ -290,5 +305,7 @@ SceneConfig load_scene(const std::string& path_in) {
   }
   return scene;
 }
+
+}  // namespace
 
 }  // namespace arphys::config

@@ -39,13 +39,19 @@ class Reader {
     if (!map.IsMap()) fail(map, key, "got " + shown(map) + ", expected a map");
     std::set<std::string> allowed(known.begin(), known.end());
     for (const auto& entry : map) {
-      const std::string name = entry.first.as<std::string>();
+      const std::string name = key_name(entry.first, key);
       if (!allowed.count(name)) {
         std::string list;
         for (const char* k : known) list += (list.empty() ? "" : ", ") + std::string(k);
         fail(entry.first, join(key, name), "unknown key (expected one of: " + list + ")");
       }
     }
+  }
+
+  // A map key as a plain name (YAML allows lists and maps as keys; no schema here does).
+  std::string key_name(const YAML::Node& key_node, const std::string& parent) const {
+    if (!key_node.IsScalar()) fail(key_node, parent, "a key is " + shown(key_node) + ", expected a plain name");
+    return key_node.Scalar();
   }
 
   static std::string join(const std::string& parent, const std::string& child) {

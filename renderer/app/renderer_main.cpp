@@ -37,6 +37,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
+#include "lcmtypes/msg/image_message.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "renderer/drawing/overlay_renderer.hpp"
 #include "renderer/output/video_file.hpp"
@@ -138,26 +139,6 @@ int offline(const CameraProjection& projection, const std::string& background_pa
   std::fprintf(stderr, "renderer: %zu objects drawn over %s -> %s (%s)\n", layers.items.size(), background_path.c_str(),
                out_path.c_str(), renderer.describe().c_str());
   return 0;
-}
-
-cv::Mat decode_image(const arphys::image_t& m) {
-  if (m.pixel_format == arphys::image_t::PIXEL_FORMAT_JPEG) {
-    cv::Mat image = cv::imdecode(m.data, cv::IMREAD_COLOR);
-    if (image.empty()) throw std::invalid_argument("JPEG does not decode");
-    return image;
-  }
-  const int channels = m.pixel_format == arphys::image_t::PIXEL_FORMAT_GRAY8 ? 1 : 3;
-  if (m.pixel_format < 1 || m.pixel_format > 3) throw std::invalid_argument("unknown pixel format");
-  if (m.width <= 0 || m.height <= 0 || m.row_stride < m.width * channels ||
-      static_cast<int64_t>(m.row_stride) * m.height > static_cast<int64_t>(m.data.size())) {
-    throw std::invalid_argument("image bytes do not match its header");
-  }
-  cv::Mat view(m.height, m.width, channels == 1 ? CV_8UC1 : CV_8UC3, const_cast<uint8_t*>(m.data.data()), m.row_stride);
-  cv::Mat bgr;
-  if (channels == 1) cv::cvtColor(view, bgr, cv::COLOR_GRAY2BGR);
-  else if (m.pixel_format == arphys::image_t::PIXEL_FORMAT_RGB8) cv::cvtColor(view, bgr, cv::COLOR_RGB2BGR);
-  else bgr = view.clone();
-  return bgr;
 }
 
 }  // namespace
@@ -319,7 +300,7 @@ int main(int argc, char** argv) {
       const int64_t render_start = msg::now_utime();
       cv::Mat frame;
       try {
-        frame = decode_image(message);
+        frame = msg::decode_image_message(message);
       } catch (const std::exception& e) {
         bad.note("undecodable image", e.what());
       }

@@ -67,7 +67,8 @@ class Search {
       const ObbNode& a = na[task.node_A];
       const ObbNode& b = nb[task.node_B];
       if (a.is_leaf() && b.is_leaf()) {
-        if (options_.max_triangle_pairs > 0 && stats.triangle_pairs_tested >= options_.max_triangle_pairs) {
+        if ((options_.max_triangle_pairs > 0 && stats.triangle_pairs_tested >= options_.max_triangle_pairs) ||
+            (options_.max_search_nodes > 0 && stats.search_nodes >= options_.max_search_nodes)) {
           // Out of budget: what came before T.lo is proven free of contact.
           stats.budget_exhausted = true;
           if (T.lo < best_) {
@@ -77,7 +78,7 @@ class Search {
           break;
         }
         ++stats.triangle_pairs_tested;
-        triangle_pair(a.triangle, b.triangle, T);
+        stats.search_nodes += triangle_pair(a.triangle, b.triangle, T);
         continue;
       }
       const double size_a = a.is_leaf() ? 0.0 : a.box.half_extents_m.maxCoeff();
@@ -106,16 +107,19 @@ class Search {
   }
 
  private:
-  void triangle_pair(int tri_A, int tri_B, const Interval& T) {
+  // Returns the search nodes the pair took.
+  long triangle_pair(int tri_A, int tri_B, const Interval& T) {
     Eigen::Vector3d a[3], b[3];
     A_.corners(tri_A, a);
     B_.corners(tri_B, b);
+    long nodes = 0;
     const FeatureContact contact =
-        triangle_pair_toi(rel_AB_, rel_BA_, a, b, {T.lo, std::min(T.hi, best_)}, options_.time_tolerance);
+        triangle_pair_toi(rel_AB_, rel_BA_, a, b, {T.lo, std::min(T.hi, best_)}, options_.time_tolerance, &nodes);
     if (contact.time < best_) {
       best_ = contact.time;
       features_ = {contact.kind, tri_A, tri_B, contact.corner_A, contact.corner_B};
     }
+    return nodes;
   }
 
   const CollisionMesh& A_;

@@ -36,12 +36,17 @@ struct ContinuousOptions {
   // (budget_exhausted): never late, only earlier. A simulation uses it to bound the
   // cost of pathological pairs (one mesh sunk inside another).
   long max_triangle_pairs = 0;
+  // Work budget in elementary search nodes over all triangle pairs (0: none), with the
+  // same conservative answer: bounds the cost of nearly coplanar meshes turning against
+  // each other, where a few pairs can take millions of nodes.
+  long max_search_nodes = 0;
 };
 
 struct ContinuousStats {
   long node_pairs_tested = 0;
   long time_splits = 0;
   long triangle_pairs_tested = 0;
+  long search_nodes = 0;
   bool budget_exhausted = false;
 };
 

@@ -107,8 +107,14 @@ class TrianglePairSearch {
     touch_distance_ = 10 * fuzz + 1e-300;
   }
 
-  // Earliest leaf in T (depth first, earliest half first), or none (alive == 0).
+  // Earliest leaf in T (depth first, earliest half first), or none (alive == 0). When
+  // the pair's node budget runs out, the node being searched is returned as a leaf:
+  // every time before it is proven contact-free, so its start is never late.
   Leaf search(const Interval& T, uint32_t alive, double tolerance) const {
+    if (++nodes_ > kNodeBudget) {
+      exhausted_ = true;
+      return {T, alive};
+    }
     const RelativeMotion::Snapshot snapshot_AB = rel_AB_.snapshot(T);
     IVec3 PB[3];  // boxes of B's corners in A's frame
     MovingPoint MB[3];
@@ -207,6 +213,8 @@ class TrianglePairSearch {
     return interval_detail::up(v * (1 + 1e-12));
   }
   double touch_distance() const { return touch_distance_; }
+  bool exhausted() const { return exhausted_; }
+  long nodes() const { return nodes_; }
 
   // The feature pair of a bit, as a contact at time t.
   static FeatureContact feature(int bit, double t) {
@@ -264,6 +272,12 @@ class TrianglePairSearch {
   const RelativeMotion& rel_BA_;
   FixedTriangle A_, B_;  // each in its own body frame
   double touch_distance_ = 0;
+  // Nearly coplanar triangles that tilt as they move (a box turning over another) keep
+  // the interval tests from excluding anything until the intervals are tiny, and the
+  // bisection then visits a huge tree. A budget bounds it; typical pairs need < 200 nodes.
+  static constexpr long kNodeBudget = 4000;
+  mutable long nodes_ = 0;
+  mutable bool exhausted_ = false;
 };
 
 }  // namespace
@@ -282,6 +296,8 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
   for (int step = 0; step < kMaxSteps; ++step) {
     const Leaf leaf = search.search(W, kAllPairs, tolerance);
     if (!leaf.alive) return {};
+    // Out of budget: the start of the unresolved node, conservative (possibly early).
+    if (search.exhausted()) return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
     if (const auto contact = search.verify(leaf)) return *contact;
     const double d = search.distance_at(leaf.T.lo);
     if (d <= search.touch_distance())
@@ -307,10 +323,13 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
 }  // namespace
 
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
-                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance) {
+                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance,
+                                 long* nodes_used) {
   if (!(window.lo <= window.hi)) return {};
   const TrianglePairSearch search(rel_AB, rel_BA, a, b, window);
-  return resolve(search, window, time_tolerance, 1);
+  const FeatureContact contact = resolve(search, window, time_tolerance, 1);
+  if (nodes_used) *nodes_used = search.nodes();
+  return contact;
 }
 
 }  // namespace arphys::collision

@@ -70,7 +70,11 @@ double first_candidate_time(const Interval& window, double time_tolerance, const
 
 // Triangle a (corners in A's body frame) and triangle b (in B's body frame); rel_AB
 // moves B's points into A's frame, rel_BA the reverse. Searches `window` only.
+// nodes_used (optional) receives the number of search nodes the pair took (at most a
+// fixed per-pair budget, beyond which the answer is the start of the unresolved part:
+// never late).
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
-                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance);
+                                 const Eigen::Vector3d b[3], const Interval& window, double time_tolerance,
+                                 long* nodes_used = nullptr);
 
 }  // namespace arphys::collision

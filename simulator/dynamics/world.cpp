@@ -7,6 +7,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "simulator/collision/broad_phase.hpp"
@@ -273,8 +274,12 @@ std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& res
     }
   }
   for (std::size_t k = 0; k < u.size(); ++k) {
-    const double bound = 2.0 * island_speed[root(static_cast<int>(k))] + options_.max_depenetration_speed_m_s +
-                         options_.launch_guard_slack_m_s;
+    // Twice the island's fastest motion bounds one solve, not a sequence of them: a body
+    // bumped a little faster every step would still run away. max_body_speed_m_s caps
+    // that absolutely (a desk-scale scene has nothing faster).
+    const double bound = std::min(options_.max_body_speed_m_s,
+                                  2.0 * island_speed[root(static_cast<int>(k))] + options_.max_depenetration_speed_m_s +
+                                      options_.launch_guard_slack_m_s);
     const double speed = point_speed(u[k], k);
     if (std::isfinite(speed) && speed <= bound) continue;
     if (std::isfinite(speed)) {

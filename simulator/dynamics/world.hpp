@@ -43,6 +43,8 @@ struct WorldOptions {
   // Launch guard (see World::solve and StepReport::launches_prevented): speed a solve
   // may add beyond twice the fastest body it couples and the depenetration speed.
   double launch_guard_slack_m_s = 0.5;
+  // No body point moves faster than this after a solve (metres per second).
+  double max_body_speed_m_s = 60.0;
   // A body pair's contact set is reduced to at most this many points when larger (per
   // normal direction: the deepest point and the extremes of the contact patch), which
   // keeps its support polygon: a bunny resting on a table touches with hundreds of
@@ -54,6 +56,7 @@ struct WorldOptions {
   collision::ContinuousOptions ccd = [] {
     collision::ContinuousOptions o;
     o.max_triangle_pairs = 2000;
+    o.max_search_nodes = 200000;
     return o;
   }();
 };

@@ -16,38 +16,11 @@
 
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/geometry/pose.hpp"
+#include "tools/ccd_query/query_line.hpp"
 
 namespace {
 
 using namespace arphys;
-
-constexpr int kNumbersPerLine = 28;
-
-// Parses a line into four poses; returns an empty string or the problem.
-std::string parse_poses(const std::string& line, geometry::Pose poses[4]) {
-  std::istringstream in(line);
-  double values[kNumbersPerLine];
-  int count = 0;
-  std::string token;
-  while (in >> token) {
-    if (count == kNumbersPerLine) return "more than 28 numbers";
-    try {
-      std::size_t used = 0;
-      values[count] = std::stod(token, &used);
-      if (used != token.size()) throw std::invalid_argument(token);
-    } catch (const std::exception&) {
-      return "'" + token + "' is not a number";
-    }
-    ++count;
-  }
-  if (count != kNumbersPerLine) return "expected 28 numbers, got " + std::to_string(count);
-  static const char* names[4] = {"A at t=0", "A at t=1", "B at t=0", "B at t=1"};
-  for (int k = 0; k < 4; ++k) {
-    const double* v = values + 7 * k;
-    poses[k] = geometry::make_pose({v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}, names[k]);
-  }
-  return "";
-}
 
 }  // namespace
 
@@ -82,12 +55,7 @@ int main(int argc, char** argv) {
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     geometry::Pose poses[4];
-    std::string problem;
-    try {
-      problem = parse_poses(line, poses);
-    } catch (const std::exception& e) {
-      problem = e.what();
-    }
+    const std::string problem = tools::parse_query_line(line, poses);
     if (!problem.empty()) {
       std::fprintf(stderr, "ccd-query: line %ld: %s\n", line_number, problem.c_str());
       std::printf("error\n");
