@@ -12,7 +12,7 @@ build=(
   libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev nlohmann-json3-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
 )
-tests=(googletest libgtest-dev libgmock-dev iproute2)
+tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev)  # clang: sanitizers + libFuzzer
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
 

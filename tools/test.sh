@@ -1,9 +1,26 @@
 #!/usr/bin/env bash
 # The README's test command: install what is missing, build, run the unit and
-# integration tests (not `slow`). Extra arguments go to ctest (e.g. -R Screw).
+# integration tests (not `slow`); then, with clang, build the unit tests and the fuzzers
+# with AddressSanitizer + UndefinedBehaviorSanitizer (build-fuzz/) and run the unit tests
+# and a short smoke run of every fuzzer under them. ARPHYS_SKIP_SANITIZERS=1 skips that
+# second part. Extra arguments go to the first ctest (e.g. -R Screw).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tools/install_deps.sh
 tools/build.sh
-cd build
-ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@"
+(cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@")
+
+if [[ -n "${ARPHYS_SKIP_SANITIZERS:-}" ]]; then exit 0; fi
+if ! command -v clang++ >/dev/null; then
+  echo "test.sh: clang++ missing, sanitizer and fuzz runs skipped (tools/install_deps.sh installs it)" >&2
+  exit 0
+fi
+cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF >/dev/null
+unit_tests=(geometry_test config_test msg_test collision_test dynamics_test sim_process_test tracking_test rendering_test)
+fuzzers=(fuzz_messages fuzz_configs fuzz_mesh fuzz_ccd_query)
+cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"
+export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+cd build-fuzz
+ctest -L 'unit|fuzz' --output-on-failure -j"$(nproc)"

@@ -45,7 +45,8 @@ namespace {
 
 CameraScriptConfig load_camera_script_checked(const std::string& path) {
   namespace fs = std::filesystem;
-  if (!fs::exists(path)) throw ConfigError(path, 0, "", "file does not exist");
+  std::error_code fs_error;
+  if (!fs::exists(path, fs_error)) throw ConfigError(path, 0, "", "file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);

@@ -211,7 +211,8 @@ namespace {
 
 SceneConfig load_scene_checked(const std::string& path_in) {
   const fs::path path = fs::absolute(path_in).lexically_normal();
-  if (!fs::is_regular_file(path)) throw ConfigError(path_in, 0, "", "scene file does not exist");
+  std::error_code fs_error;
+  if (!fs::is_regular_file(path, fs_error)) throw ConfigError(path_in, 0, "", "scene file does not exist");
   YAML::Node root;
   try {
     root = YAML::LoadFile(path.string());

@@ -120,7 +120,8 @@ class Reader {
     std::filesystem::path p(given);
     if (p.is_relative()) p = base_dir_ / p;
     p = p.lexically_normal();
-    if (!std::filesystem::is_regular_file(p)) {
+    std::error_code error;  // a name too long for the file system is "not found", not a throw
+    if (!std::filesystem::is_regular_file(p, error)) {
       fail(node, key, what + " '" + given + "' not found (looked for " + p.string() +
                           "; relative paths are relative to the scene file)");
     }

@@ -129,8 +129,15 @@ int ObjectTracker::choose_branch(Track& track, const std::array<Pose, 2>& X_CO, 
   // continuity (the tilt may pass through zero or turn back): start afresh there.
   const bool merged = geometry::rotation_distance_rad(X_CO[0], X_CO[1]) < options_.branch_merge_rad;
   if (!recent || merged) {
-    track.branch_cost = cost;
+    // Near frontal the residuals say nothing either way: keep no evidence from there,
+    // or a guess made at frontal would carry the mirror branch out of it.
+    track.branch_cost = merged ? std::array<double, 2>{0.0, 0.0} : cost;
     track.branch_X_CO = X_CO;
+    if (merged) {
+      track.branches_valid = true;
+      track.branches_utime = utime;
+      return 0;  // the lower-error solution; both are within branch_merge_rad of each other
+    }
   } else {
     // Each branch continues with the solution nearest to it.
     const auto d = [](const Pose& a, const Pose& b) { return geometry::rotation_distance_rad(a, b); };
