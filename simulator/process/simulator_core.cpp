@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/scene_world.hpp"
 
@@ -139,8 +140,31 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
     reject("spawn of '" + command.model + "': faster than " + std::to_string(options_.max_spawn_speed_m_s) + " m/s");
     return false;
   }
-  const std::string id = object->id + "#" + std::to_string(spawn_counter_[object->id]++);
-  world_.add_body(dynamics::make_instance(*object, id, command.X_WB, command.v_WB_m_s, command.w_WB_rad_s));
+  const std::string id = object->id + "#" + std::to_string(spawn_counter_[object->id]);
+  dynamics::RigidBody body = dynamics::make_instance(*object, id, command.X_WB, command.v_WB_m_s, command.w_WB_rad_s);
+  // A body spawned into another one cannot be resolved physically (both are pushed
+  // apart at the depenetration speed, and a stack of them buries the solver): refused.
+  for (const auto& other : world_.bodies()) {
+    if (other.shape.type() != collision::Shape::Type::kPlane &&
+        (other.X_WB.translation() - body.X_WB.translation()).norm() > other.bounding_radius_m() + body.bounding_radius_m()) {
+      continue;
+    }
+    bool overlap = false;
+    if (body.shape.triangles() && other.shape.triangles()) {
+      overlap = collision::intersects(*body.shape.triangles(), body.X_WB, *other.shape.triangles(), other.X_WB);
+    } else {
+      // Planes and spheres report signed distances: negative is a penetration.
+      for (const auto& point : collision::contact_manifold(body.shape, body.X_WB, other.shape, other.X_WB, 1e-4)) {
+        overlap = overlap || point.distance_m < 0.0;
+      }
+    }
+    if (overlap) {
+      reject("spawn of '" + command.model + "': would overlap '" + other.id + "'");
+      return false;
+    }
+  }
+  ++spawn_counter_[object->id];
+  world_.add_body(std::move(body));
   return true;
 }
 

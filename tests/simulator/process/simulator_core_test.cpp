@@ -95,7 +95,7 @@ TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
   spawn.model = "bunny";
   for (int k = 0; k < 40; ++k) {
     spawn.seq = 10 + k;
-    spawn.X_WB = geometry::translation_pose({-0.5 + 0.05 * k, 0, 0.5});
+    spawn.X_WB = geometry::translation_pose({-0.5 + 0.2 * (k % 6), -0.35 + 0.2 * ((k / 6) % 4), 0.5 + 0.25 * (k / 24)});
     core.on_command(spawn);
   }
   int bunnies = 0;
@@ -111,6 +111,25 @@ TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
   remove.seq = 101;
   remove.body_id = "bunny#0";
   EXPECT_TRUE(core.on_command(remove));
+}
+
+// Two bunnies thrown into the same place: the second would start inside the first and
+// is refused with a reason (a flood of such spawns buried the solver before).
+TEST(SimulatorCore, SpawnIntoAnotherBodyIsRefused) {
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  SpawnRequest spawn;
+  spawn.sender = "test";
+  spawn.kind = SpawnRequest::Kind::kSpawn;
+  spawn.model = "bunny";
+  spawn.X_WB = geometry::make_pose({0.1, 0.2, 0.3}, {0.7071067811865476, 0.7071067811865476, 0, 0});
+  spawn.seq = 1;
+  EXPECT_TRUE(core.on_command(spawn));
+  spawn.seq = 2;
+  EXPECT_FALSE(core.on_command(spawn));
+  EXPECT_EQ(core.rejections().count("spawn of 'bunny': would overlap 'bunny#1'"), 1u) << core.last_rejection();
+  spawn.seq = 3;
+  spawn.X_WB.translation().x() = -0.2;  // clear of it
+  EXPECT_TRUE(core.on_command(spawn));
 }
 
 TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
