@@ -49,6 +49,7 @@ void on_signal(int) { g_stop = true; }
 
 struct Child {
   std::string name;
+  std::vector<std::string> args;
   pid_t pid = -1;
   bool exited = false;
   int status = 0;
@@ -85,7 +86,7 @@ int main(int argc, char** argv) {
   std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
   double duration_s = 20, spawn_every_s = 1.0;
-  bool record = false;
+  bool record = false, restart = false;
   app.add_option("scene", scene_path, "scene YAML")->capture_default_str();
   app.add_option("--camera", camera, "synthetic (the scene's camera script), /dev/videoN, or a video file")
       ->capture_default_str();
@@ -95,6 +96,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--duration", duration_s, "seconds to run")->capture_default_str();
   app.add_option("--out", out_dir, "write overlay.avi, latency.json, process logs (and run.lcmlog) here");
+  app.add_flag("--restart", restart, "restart a process that dies (reported, counted) instead of stopping the run");
   app.add_flag("--record", record, "record all traffic with lcm-logger to OUT/run.lcmlog");
   app.add_option("--only", only, "comma-separated subset to start: camera,tracker,simulator,renderer (other machines "
                                  "run the rest)");
@@ -154,9 +156,11 @@ int main(int argc, char** argv) {
   });
 
   std::vector<Child> children;
+  std::map<std::string, int> restarts;
   auto start_child = [&](const std::string& name, const std::vector<std::string>& args) {
     Child c;
     c.name = name;
+    c.args = args;
     c.pid = spawn(args, log_of(name));
     if (c.pid <= 0) {
       std::fprintf(stderr, "arphys-launch: cannot start %s (%s)\n", name.c_str(), args[0].c_str());
@@ -226,7 +230,21 @@ int main(int argc, char** argv) {
         const bool source = c.name == "camera" || (c.name == "tracker" && camera != "synthetic" &&
                                                    camera.rfind("/dev/video", 0) != 0);
         const bool expected = source && WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0;
-        if (!expected && died.empty()) died = c.name;
+        if (expected) continue;
+        if (restart && !g_stop) {
+          // The others keep running; the process comes back on the same channels and
+          // resynchronises from the traffic (a simulator restarts its scene afresh).
+          const std::string log = log_of(c.name).empty() ? std::string() : out_dir + "/" + c.name + "." +
+                                                                                  std::to_string(++restarts[c.name]) + ".log";
+          if (log.empty()) ++restarts[c.name];
+          std::fprintf(stderr, "arphys-launch: %s died (%s %d), restarting it (restart %d)\n", c.name.c_str(),
+                       WIFSIGNALED(c.status) ? "signal" : "exit code",
+                       WIFSIGNALED(c.status) ? WTERMSIG(c.status) : WEXITSTATUS(c.status), restarts[c.name]);
+          c.pid = spawn(c.args, log);
+          c.exited = c.pid <= 0;
+          continue;
+        }
+        if (died.empty()) died = c.name;
       }
     }
     if (!died.empty()) break;
@@ -269,6 +287,7 @@ int main(int argc, char** argv) {
   report["scene"] = scene.name;
   report["tracker"] = tracker_impl;
   report["duration_s"] = duration_s;
+  report["restarts"] = restarts;
   latency.print();
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
