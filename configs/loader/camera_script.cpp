@@ -18,11 +18,7 @@ geometry::Pose camera_pose(const Reader& r, const YAML::Node& node, const std::s
     if (!((target - eye).norm() > 1e-6) || std::abs(z.z()) > 0.999) {
       r.fail(look, k, "eye and target must differ and not be vertically aligned");
     }
-    Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-    geometry::Pose X = geometry::Pose::Identity();
-    X.linear() << x, z.cross(x), z;
-    X.translation() = eye;
-    return X;
+    return geometry::look_at(eye, target);
   }
   return r.pose(r.required(node, key, "pose"), key + ".pose");
 }

@@ -19,7 +19,6 @@
 #include <map>
 #include <sstream>
 #include <random>
-#include <set>
 
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -203,7 +202,7 @@ int main(int argc, char** argv) {
       for (double& x : v) {
         if (!(in >> x)) throw std::invalid_argument("--look-at '" + look_at_text + "': expected six numbers");
       }
-      camera_pose_X_WC = look_at({v[0], v[1], v[2]}, {v[3], v[4], v[5]});
+      camera_pose_X_WC = geometry::look_at({v[0], v[1], v[2]}, {v[3], v[4], v[5]});
     } else if (!camera_pose.empty()) {
       camera_pose_X_WC = parse_pose(camera_pose, "--camera-pose");
     }

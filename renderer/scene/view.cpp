@@ -18,18 +18,6 @@ geometry::Pose parse_pose(const std::string& text, const std::string& what) {
   return geometry::make_pose({v[0], v[1], v[2]}, {v[3], v[4], v[5], v[6]}, what, 1e-3);
 }
 
-geometry::Pose look_at(const Eigen::Vector3d& eye_W, const Eigen::Vector3d& target_W, const Eigen::Vector3d& up_W) {
-  const Eigen::Vector3d z = (target_W - eye_W).normalized();
-  Eigen::Vector3d x = z.cross(up_W);  // image right: forward x up (up is -y)
-  if (x.norm() < 1e-9) x = z.unitOrthogonal();
-  x.normalize();
-  const Eigen::Vector3d y = z.cross(x);
-  geometry::Pose X = geometry::Pose::Identity();
-  X.linear() << x, y, z;
-  X.translation() = eye_W;
-  return X;
-}
-
-geometry::Pose default_camera_pose() { return look_at({0, -0.9, 0.7}, {0, 0, 0}); }
+geometry::Pose default_camera_pose() { return geometry::look_at({0, -0.9, 0.7}, {0, 0, 0}); }
 
 }  // namespace arphys::rendering

@@ -10,11 +10,6 @@ namespace arphys::rendering {
 // not unit.
 geometry::Pose parse_pose(const std::string& text, const std::string& what);
 
-// The pose X_WC of an OpenCV camera (x right, y down, z forward) at `eye_W` looking at
-// `target_W`, its image "up" as close to `up_W` as the view allows.
-geometry::Pose look_at(const Eigen::Vector3d& eye_W, const Eigen::Vector3d& target_W,
-                       const Eigen::Vector3d& up_W = Eigen::Vector3d::UnitZ());
-
 // Where the synthetic camera and the offline renderer look from by default: 0.9 m in
 // front of the table's centre and 0.7 m above it, at the centre.
 geometry::Pose default_camera_pose();

@@ -45,6 +45,17 @@ Pose translation_pose(const Eigen::Vector3d& p_m) {
   return X;
 }
 
+Pose look_at(const Eigen::Vector3d& eye_W, const Eigen::Vector3d& target_W, const Eigen::Vector3d& up_W) {
+  const Eigen::Vector3d z = (target_W - eye_W).normalized();
+  Eigen::Vector3d x = z.cross(up_W);  // image right: forward x up (up is -y)
+  if (x.norm() < 1e-9) x = z.unitOrthogonal();
+  x.normalize();
+  Pose X = Pose::Identity();
+  X.linear() << x, z.cross(x), z;
+  X.translation() = eye_W;
+  return X;
+}
+
 double translation_distance_m(const Pose& a, const Pose& b) { return (a.translation() - b.translation()).norm(); }
 
 double rotation_distance_rad(const Pose& a, const Pose& b) {

@@ -20,6 +20,12 @@ Pose make_pose(const Eigen::Vector3d& position_m, const Eigen::Vector4d& quatern
 Pose rotation_pose(const Eigen::Vector3d& axis, double angle_rad);
 Pose translation_pose(const Eigen::Vector3d& p_m);
 
+// The pose X_WC of a camera in OpenCV's axes (x right, y down, z forward) at eye_W looking
+// at target_W, its image "up" as close to up_W as the view allows (any sideways axis when
+// the view is along up_W).
+Pose look_at(const Eigen::Vector3d& eye_W, const Eigen::Vector3d& target_W,
+             const Eigen::Vector3d& up_W = Eigen::Vector3d::UnitZ());
+
 // Distance measures between two poses: translation in metres, rotation angle in radians.
 double translation_distance_m(const Pose& a, const Pose& b);
 double rotation_distance_rad(const Pose& a, const Pose& b);

@@ -103,9 +103,7 @@ TEST(RendererProcess, MatchesWorldStatesToFramesAndCountsBadInput) {
   wait(300);
   bus.publish("ARPHYS_CAMERA_IMAGE", jpeg_frame(cv::Mat(240, 320, CV_8UC1, cv::Scalar(90)), t0 + 133333, 4));
   wait(1500);
-  kill(renderer, SIGTERM);
-  int status = 0;
-  waitpid(renderer, &status, 0);
+  arphys::testing::stop_process(renderer);
 
   ASSERT_EQ(statuses.size(), 3u);  // the broken and the small frame are not rendered
   EXPECT_EQ(statuses[0].world_state_match, arphys::render_status_t::MATCH_NONE);

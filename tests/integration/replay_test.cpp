@@ -51,9 +51,7 @@ Trace replay_once(const std::string& log) {
   while (std::chrono::steady_clock::now() < end) bus.handle_timeout_ms(20);
   player.join();
   for (int i = 0; i < 50; ++i) bus.handle_timeout_ms(20);
-  kill(simulator, SIGTERM);
-  int status = 0;
-  waitpid(simulator, &status, 0);
+  arphys::testing::stop_process(simulator);
   return trace;
 }
 

@@ -39,12 +39,6 @@ pid_t start_tracker(const std::string& impl, const std::string& name) {
                                          "--marker-size", "0.08", "--impl", impl, "--name", name, "--duration", "30"});
 }
 
-void stop(pid_t pid) {
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-}
-
 TEST(TrackerProcess, SwapsDetectorLiveAndHandsOverToASecondProcess) {
   {
     lcm::LCM probe(kUrl);
@@ -129,13 +123,13 @@ TEST(TrackerProcess, SwapsDetectorLiveAndHandsOverToASecondProcess) {
   EXPECT_TRUE(saw_counts) << "heartbeat should count the switch, the refused control and the bad image";
 
   // The first tracker stops; a second one (the other implementation) takes over.
-  stop(first);
+  arphys::testing::stop_process(first);
   const size_t before_second = detections.size();
   pid_t second = start_tracker("apriltag", "tracker-b");
   ASSERT_GT(second, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
   feed(1.5);
-  stop(second);
+  arphys::testing::stop_process(second);
   EXPECT_GE(count_from(before_second, "apriltag"), 10);
 }
 

@@ -31,12 +31,6 @@ pid_t start_tracker(const std::string& name, const std::string& impl) {
                                          "--lcm-url", kUrl, "--impl", impl, "--name", name, "--duration", "30"});
 }
 
-void stop(pid_t pid) {
-  kill(pid, SIGTERM);
-  int status = 0;
-  waitpid(pid, &status, 0);
-}
-
 TEST(TrackerSwap, LiveSwitchAndProcessHandoverKeepTheBoxTracked) {
   {
     lcm::LCM probe(kUrl);
@@ -85,9 +79,9 @@ TEST(TrackerSwap, LiveSwitchAndProcessHandoverKeepTheBoxTracked) {
   pump(1.5);
   const pid_t b = start_tracker("tracker-b", "apriltag");  // hot standby on the same channels
   pump(1.0);
-  stop(a);
+  arphys::testing::stop_process(a);
   pump(2.5);
-  stop(b);
+  arphys::testing::stop_process(b);
   int status = 0;
   waitpid(camera, &status, 0);
 

@@ -7,10 +7,13 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 namespace {
 
 std::string run(const std::string& args, int* exit_code) {
-  const std::string err = ::testing::TempDir() + "simulate_cli_err.txt";
+  // One file per test process: ctest runs the cases of this file in parallel.
+  const std::string err = ::testing::TempDir() + "simulate_cli_err_" + std::to_string(getpid()) + ".txt";
   const std::string command = std::string(ARPHYS_BINARY_DIR) + "/simulator/simulate/simulate " + args + " 2> " + err;
   *exit_code = WEXITSTATUS(std::system(command.c_str()));
   std::ifstream in(err);

@@ -1,6 +1,8 @@
 #pragma once
 // Starting a real process from a test (posix_spawn, PATH lookup), for the integration tests.
+#include <signal.h>
 #include <spawn.h>
+#include <sys/wait.h>
 #include <sys/types.h>
 
 #include <string>
@@ -18,6 +20,13 @@ inline pid_t spawn_process(const std::vector<std::string>& args) {
   pid_t pid = 0;
   if (posix_spawnp(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
   return pid;
+}
+
+// Asks a spawned process to stop (SIGTERM) and waits for it.
+inline void stop_process(pid_t pid) {
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
 }
 
 }  // namespace arphys::testing

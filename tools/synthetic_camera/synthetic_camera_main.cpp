@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <thread>
 
@@ -29,23 +30,12 @@
 #include "renderer/drawing/overlay_renderer.hpp"
 #include "renderer/output/video_file.hpp"
 #include "renderer/scene/scene_models.hpp"
-#include "simulator/geometry/screw_motion.hpp"
+#include "simulator/dynamics/kinematic_trajectory.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
 namespace {
 
 using namespace arphys;
-
-geometry::Pose pose_at(const std::vector<config::TimedPoseConfig>& keys, double t_s) {
-  if (t_s <= keys.front().t_s) return keys.front().X_WO;
-  for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
-    if (t_s < keys[i + 1].t_s) {
-      const double u = (t_s - keys[i].t_s) / (keys[i + 1].t_s - keys[i].t_s);
-      return geometry::ScrewMotion(keys[i].X_WO, keys[i + 1].X_WO).pose_at(u);
-    }
-  }
-  return keys.back().X_WO;
-}
 
 }  // namespace
 
@@ -90,6 +80,12 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (duration_s <= 0) duration_s = script.duration_s;
+  // The scripted objects move as a tracked body does in the simulator: screw motion
+  // between keyframes, held before the first and after the last.
+  std::map<std::string, dynamics::KinematicTrajectory> trajectories;
+  for (const auto& [id, keys] : script.trajectories) {
+    for (const auto& key : keys) trajectories[id].add(key.t_s, key.X_WO);
+  }
   const auto marker_camera = tracking::CameraModel::from_config(camera);
   const cv::Mat background = tracking::clutter_background(camera.width_px, camera.height_px, script.effects.seed + 1000);
   cv::Mat background_bgr;
@@ -119,8 +115,8 @@ int main(int argc, char** argv) {
     const geometry::Pose X_CW = script.X_WC.inverse();
     for (const auto& object : script.scene.objects) {
       if (object.role != config::Role::kReal) continue;
-      const auto keys = script.trajectories.find(object.id);
-      const geometry::Pose X_WO = keys == script.trajectories.end() ? object.X_WO : pose_at(keys->second, t_s);
+      const auto path = trajectories.find(object.id);
+      const geometry::Pose X_WO = path == trajectories.end() ? object.X_WO : path->second.pose_at(t_s);
       bodies.push_back({object.id, false, X_WO});
       for (const auto& m : object.markers) markers.push_back({m.family, m.id, m.size_m, X_CW * X_WO * m.X_OM});
       truth.object_ids.push_back(object.id);

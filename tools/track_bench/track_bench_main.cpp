@@ -55,6 +55,12 @@ std::vector<Config> picture_configs() {
   return list;
 }
 
+std::vector<std::unique_ptr<MarkerDetector>> make_detectors(const std::vector<Config>& list) {
+  std::vector<std::unique_ptr<MarkerDetector>> detectors;
+  for (const auto& c : list) detectors.push_back(make_detector(c.spec));
+  return detectors;
+}
+
 double degrees(double rad) { return rad * 180.0 / M_PI; }
 
 double percentile(std::vector<double> v, double p) {
@@ -85,8 +91,7 @@ void sweep(const std::string& out_dir, int trials, uint64_t seed) {
   const CameraModel camera = bench_camera();
   const cv::Mat background = clutter_background(640, 480, 101);
   const std::vector<Config> list = picture_configs();
-  std::vector<std::unique_ptr<MarkerDetector>> detectors;
-  for (const auto& c : list) detectors.push_back(make_detector(c.spec));
+  const auto detectors = make_detectors(list);
   std::ofstream csv(out_dir + "/track_sweep.csv");
   csv << "config,size_m,distance_m,angle_deg,trial,detected,corner_rms_px,position_error_mm,rotation_error_deg,flip\n";
   cv::RNG rng(seed);
@@ -148,8 +153,7 @@ void effects_sweep(const std::string& out_dir, int trials, uint64_t seed) {
   const CameraModel camera = bench_camera();
   const cv::Mat background = clutter_background(640, 480, 303);
   const std::vector<Config> list = picture_configs();
-  std::vector<std::unique_ptr<MarkerDetector>> detectors;
-  for (const auto& c : list) detectors.push_back(make_detector(c.spec));
+  const auto detectors = make_detectors(list);
   std::ofstream csv(out_dir + "/track_effects.csv");
   csv << "config,noise_sigma,blur_px,trial,detected,corner_rms_px,position_error_mm,rotation_error_deg\n";
   cv::RNG rng(seed + 17);

@@ -10,6 +10,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 #include <thread>
 
 #include <opencv2/imgcodecs.hpp>
@@ -182,6 +183,8 @@ int main(int argc, char** argv) {
   int64_t frame_index = 0, published = 0, frames_since_status = 0;
   double detect_ms_since_status = 0;
   bool first_frame = true;
+  std::optional<int64_t> paced_first_utime;  // --pace: the first frame's time and when it was shown
+  std::chrono::steady_clock::time_point paced_start;
   while (!g_stop) {
     const auto now = std::chrono::steady_clock::now();
     if (duration_s > 0 && std::chrono::duration<double>(now - start).count() > duration_s) break;
@@ -190,10 +193,12 @@ int main(int argc, char** argv) {
     std::optional<Frame> frame = frames->next(50);
     if (!frame && frames->finished()) break;
     if (frame && pace && !lcm_source) {
-      // Frame times of a file count from when it was opened: wait for each one's turn.
-      static const auto paced_start = std::chrono::steady_clock::now();
-      static const int64_t first_utime = frame->capture_utime;
-      std::this_thread::sleep_until(paced_start + std::chrono::microseconds(frame->capture_utime - first_utime));
+      // Frame times of a file count from its first frame: wait for each one's turn.
+      if (!paced_first_utime) {
+        paced_first_utime = frame->capture_utime;
+        paced_start = std::chrono::steady_clock::now();
+      }
+      std::this_thread::sleep_until(paced_start + std::chrono::microseconds(frame->capture_utime - *paced_first_utime));
     }
     if (frame) {
       if (first_frame && !lcm_source &&

@@ -1,6 +1,6 @@
 #include "tracker/app/tracker_output.hpp"
 
-#include <cstdio>
+#include <iomanip>
 #include <sstream>
 
 #include "lcmtypes/msg/clock.hpp"

@@ -4,11 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 
-#include <opencv2/imgproc.hpp>
 
 #include "tracker/detection/param_parsing.hpp"
 

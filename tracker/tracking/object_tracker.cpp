@@ -120,9 +120,10 @@ void ObjectTracker::record(Track& track, const Pose& X_CO, int64_t utime) {
 
 int ObjectTracker::choose_branch(Track& track, const std::array<Pose, 2>& X_CO, const MarkerPoseSolutions& solutions,
                                  int64_t utime) {
-  const double variance = options_.corner_sigma_px * options_.corner_sigma_px;
+  // Evidence: each solution's sum of squared corner residuals (4 corners), px^2. A corner
+  // noise scale would multiply both branches alike and change no decision.
   std::array<double, 2> cost;
-  for (int i = 0; i < 2; ++i) cost[i] = 4 * solutions.rms_px[i] * solutions.rms_px[i] / (2 * variance);
+  for (int i = 0; i < 2; ++i) cost[i] = 4 * solutions.rms_px[i] * solutions.rms_px[i];
   const bool recent = track.branches_valid && seconds_between(utime, track.branches_utime) <= options_.memory_s &&
                       utime > track.branches_utime;
   // Near frontal the two solutions merge and the branches cannot be told apart by

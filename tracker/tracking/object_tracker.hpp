@@ -85,7 +85,6 @@ struct TrackerOptions {
   // errors hardly differ, and a prediction from an ambiguous frame can lock onto the
   // mirror branch; the evidence of several frames does neither.
   double ambiguity_ratio_threshold = 4.0;
-  double corner_sigma_px = 0.05;
   // Per-frame decay of the evidence each branch has gathered (0: none kept).
   double branch_evidence_decay = 0.8;
   // Solutions closer than this are one branch (near-frontal views).
@@ -125,7 +124,7 @@ class ObjectTracker {
     Eigen::Vector3d w_rad_s = Eigen::Vector3d::Zero();
     OneEuroPoseFilter filter;
     // A single marker's two pose branches, followed frame to frame, each with its
-    // decayed sum of squared corner residuals (in units of the corner variance).
+    // decayed sum of squared corner residuals (px^2).
     bool branches_valid = false;
     int64_t branches_utime = 0;
     std::array<Pose, 2> branch_X_CO;
