@@ -1,10 +1,11 @@
 #include "lcmtypes/msg/bus.hpp"
 
+#include <unistd.h>
+
 #include <cstdio>
-#include <fstream>
-
-
+#include <cstdlib>
 #include <exception>
+#include <fstream>
 #include <stdexcept>
 
 namespace arphys::msg {
@@ -34,9 +35,30 @@ void warn_if_kernel_caps_the_buffer(const std::string& url) {
   }
 }
 
+double number_from_environment(const char* name, double fallback, double min, double max) {
+  const char* text = std::getenv(name);
+  if (!text || !*text) return fallback;
+  char* end = nullptr;
+  const double value = std::strtod(text, &end);
+  if (*end != '\0' || !(value >= min && value <= max)) {
+    throw std::invalid_argument(std::string(name) + "='" + text + "': expected a number in [" + std::to_string(min) +
+                                ", " + std::to_string(max) + "]");
+  }
+  return value;
+}
+
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
 }  // namespace
 
 Bus::Bus(const std::string& url) : url_(with_receive_buffer(url)), lcm_(std::make_unique<lcm::LCM>(url_)) {
+  receive_loss_ = number_from_environment("ARPHYS_FAULT_RECEIVE_LOSS", 0.0, 0.0, 0.99);
+  loss_state_ = static_cast<std::uint64_t>(number_from_environment("ARPHYS_FAULT_SEED", getpid(), 0, 1e15));
   warn_if_kernel_caps_the_buffer(url_);
   if (!lcm_->good()) {
     throw std::runtime_error(
@@ -68,6 +90,11 @@ void Bus::count_decode_error(const std::string& channel, uint32_t size) {
 }
 
 void Bus::DispatcherBase::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+  if (bus->receive_loss_ > 0 &&
+      static_cast<double>(splitmix64(bus->loss_state_) >> 11) * 0x1.0p-53 < bus->receive_loss_) {
+    ++bus->counters_.injected_losses;
+    return;
+  }
   ++bus->counters_.received;
   // Exceptions must not cross LCM's C dispatch loop: count and drop here.
   try {

@@ -14,6 +14,7 @@ struct MessageCounters {
   int64_t received = 0;       // messages that reached a subscription
   int64_t decode_errors = 0;  // dropped: bytes did not decode as the channel's type
   int64_t rejected = 0;       // dropped: decoded, but the handler refused the content
+  int64_t injected_losses = 0;  // dropped on purpose by ARPHYS_FAULT_RECEIVE_LOSS (fault injection)
   std::string last_error;     // the most recent decode error or rejection, for the log
 };
 
@@ -26,6 +27,12 @@ class Bus {
   // url: an LCM provider URL ("" = LCM_DEFAULT_URL or udpm://239.255.76.67:7667?ttl=0,
   // "memq://" = in-process, "file:///path?mode=r" = a log). Throws std::runtime_error
   // when LCM cannot start (typically: no multicast route), saying how to fix it.
+  //
+  // Fault injection: the environment variable ARPHYS_FAULT_RECEIVE_LOSS=F (0 <= F < 1)
+  // makes this bus drop a fraction F of the messages it receives, at random (seed:
+  // ARPHYS_FAULT_SEED, default the pid), before they are counted or decoded: packet loss
+  // on the receiving side, which is where multicast loses datagrams. Counted in
+  // injected_losses. A malformed value throws std::invalid_argument naming the variable.
   explicit Bus(const std::string& url = "");
   ~Bus();
   Bus(const Bus&) = delete;
@@ -88,6 +95,8 @@ class Bus {
   std::unique_ptr<lcm::LCM> lcm_;
   MessageCounters counters_;
   std::vector<std::unique_ptr<DispatcherBase>> dispatchers_;
+  double receive_loss_ = 0;       // fraction of received messages dropped on purpose
+  std::uint64_t loss_state_ = 0;  // splitmix64 state of the loss draws
 };
 
 }  // namespace arphys::msg

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <cstdio>
+
 #include "lcmtypes/msg/clock.hpp"
 
 namespace arphys::msg {
@@ -20,6 +22,15 @@ arphys::process_status_t heartbeat(const std::string& name, const std::string& i
   status.received = bus.counters().received;
   status.decode_errors = bus.counters().decode_errors;
   status.rejected = bus.counters().rejected;
+  // Resident memory, so a leak shows in any run's heartbeats (docs/ROBUSTNESS.md).
+  long pages_total = 0, pages_resident = 0;
+  if (FILE* statm = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(statm, "%ld %ld", &pages_total, &pages_resident) == 2) {
+      add_figure(status, "rss_mb", static_cast<double>(pages_resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1048576.0);
+    }
+    std::fclose(statm);
+  }
+  if (bus.counters().injected_losses) add_figure(status, "injected_losses", static_cast<double>(bus.counters().injected_losses));
   return status;
 }
 

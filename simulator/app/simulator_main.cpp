@@ -13,6 +13,9 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "arphys/object_poses_t.hpp"
 #include "arphys/process_status_t.hpp"
@@ -119,6 +122,63 @@ arphys::world_state_t world_state(const sim::SimulatorCore& core, int64_t step_s
   return ws;
 }
 
+// The checkpoint is the last world state, in its LCM encoding, replaced atomically (write
+// then rename) so a process killed mid-write leaves the previous one whole.
+void write_checkpoint(const std::string& path, const arphys::world_state_t& ws) {
+  std::vector<uint8_t> bytes(static_cast<std::size_t>(ws.getEncodedSize()));
+  ws.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    if (!out) return;  // a full disk must not stop the simulation; the previous checkpoint stays
+  }
+  std::rename(tmp.c_str(), path.c_str());
+}
+
+// Resumes the virtual bodies of a checkpoint a previous run left; says what came back.
+void resume_from(const std::string& path, sim::SimulatorCore& core, sim::RecoveryReport& report) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;  // first start: nothing to resume
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  arphys::world_state_t saved;
+  if (saved.decode(bytes.data(), 0, static_cast<int>(bytes.size())) < 0) {
+    std::fprintf(stderr, "arphys-simulator: state file %s does not decode as a world state: starting the scene afresh\n",
+                 path.c_str());
+    return;
+  }
+  if (saved.scene_name != core.scene().name) {
+    std::fprintf(stderr, "arphys-simulator: state file %s is of scene '%s', not '%s': starting the scene afresh\n",
+                 path.c_str(), saved.scene_name.c_str(), core.scene().name.c_str());
+    return;
+  }
+  std::vector<sim::RecoveredBody> bodies;
+  for (const auto& b : saved.bodies) {
+    if (b.role != arphys::body_state_t::ROLE_VIRTUAL || b.motion != arphys::body_state_t::MOTION_DYNAMIC) continue;
+    sim::RecoveredBody body;
+    body.body_id = b.body_id;
+    body.model = b.model;
+    try {
+      body.X_WB = msg::from_message(b.X_WB, b.body_id);
+    } catch (const std::exception& e) {
+      report.lost.push_back(b.body_id + ": " + e.what());
+      continue;
+    }
+    body.v_WB_m_s = msg::from_array(b.v_WB_m_s);
+    body.w_WB_rad_s = msg::from_array(b.w_WB_rad_s);
+    bodies.push_back(body);
+  }
+  const sim::RecoveryReport recovered = core.recover(bodies);
+  report.recovered += recovered.recovered;
+  report.lost.insert(report.lost.end(), recovered.lost.begin(), recovered.lost.end());
+  const double age_s = std::chrono::duration<double>(std::filesystem::file_time_type::clock::now() -
+                                                     std::filesystem::last_write_time(path)).count();
+  std::fprintf(stderr, "arphys-simulator: resumed %d virtual bodies from %s (saved %.2f s ago, at simulation time "
+               "%.3f s; their motion since then is lost)%s\n",
+               report.recovered, path.c_str(), age_s, saved.sim_time_s, report.lost.empty() ? "" : "; not resumed:");
+  for (const auto& lost : report.lost) std::fprintf(stderr, "  %s\n", lost.c_str());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -136,6 +196,10 @@ int main(int argc, char** argv) {
   app.add_option("--tracking-policy", policy, "override the scene's physics.tracking_policy")
       ->check(CLI::IsMember({"delay", "extrapolate"}));
   app.add_option("--duration", duration_s, "exit after this many wall-clock seconds (0: run until SIGINT)");
+  std::string state_file;
+  app.add_option("--state-file", state_file,
+                 "keep the last world state here (replaced 5 times a second); when the file exists at start, resume "
+                 "its virtual bodies (after a crash or restart)");
   CLI11_PARSE(app, argc, argv);
 
   config::SceneConfig scene;
@@ -156,6 +220,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "arphys-simulator: %s\n", e.what());
     return 2;
   }
+  sim::RecoveryReport recovery;
+  if (!state_file.empty()) resume_from(state_file, *core, recovery);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 
@@ -169,7 +235,8 @@ int main(int argc, char** argv) {
                                         });
 
   const auto start = std::chrono::steady_clock::now();
-  auto last_status = start;
+  auto last_status = start, last_checkpoint = start;
+  arphys::world_state_t newest;
   int64_t published = 0, steps_since_status = 0;
   double stage_ms_since_status = 0;
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
@@ -189,11 +256,16 @@ int main(int argc, char** argv) {
       arphys::world_state_t ws = world_state(*core, step_start, step_end);
       ws.publish_utime = msg::now_utime();
       bus->publish(scene.channels.world_state, ws);
+      if (!state_file.empty()) newest = std::move(ws);
       ++published;
       ++steps_since_status;
       stage_ms_since_status += 1e-3 * static_cast<double>(step_end - step_start);
     }
     const auto now = std::chrono::steady_clock::now();
+    if (!state_file.empty() && published > 0 && now - last_checkpoint >= std::chrono::milliseconds(200)) {
+      write_checkpoint(state_file, newest);
+      last_checkpoint = now;
+    }
     if (now - last_status >= std::chrono::seconds(1)) {
       const double window_s = std::chrono::duration<double>(now - last_status).count();
       arphys::process_status_t status =
@@ -203,6 +275,11 @@ int main(int argc, char** argv) {
       status.stage_duration_ms = steps_since_status ? stage_ms_since_status / steps_since_status : 0.0;
       status.published = published;
       status.rejected += core->rejected_total();
+      msg::add_figure(status, "bodies_left_world", static_cast<double>(core->left_world().size()));
+      if (!state_file.empty()) {
+        msg::add_figure(status, "resumed_bodies", recovery.recovered);
+        msg::add_figure(status, "bodies_not_resumed", static_cast<double>(recovery.lost.size()));
+      }
       const auto lost = core->lost_objects();
       status.state = core->paused() ? "paused" : (lost.empty() ? "running" : "running, lost: " + lost.front());
       bus->publish(scene.channels.process_status, status);

@@ -1,5 +1,6 @@
 #include "simulator/process/simulator_core.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -29,7 +30,14 @@ void SimulatorCore::reset() {
 }
 
 void SimulatorCore::reject(const std::string& reason) {
-  ++rejections_[reason];
+  // Reasons quote what a message said (an object id, a sender): hostile traffic must not
+  // grow the table without bound, so past kMaxReasons distinct ones they share a row.
+  constexpr std::size_t kMaxReasons = 64;
+  if (rejections_.size() < kMaxReasons || rejections_.count(reason)) {
+    ++rejections_[reason];
+  } else {
+    ++rejections_["other reasons (table full)"];
+  }
   last_rejection_ = reason;
 }
 
@@ -99,6 +107,10 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
     reject("repeated command from '" + command.sender + "'");
     return false;
   }
+  // One entry per sender; random sender names must not grow it without bound (a sender
+  // forgotten this way can repeat its last command once).
+  constexpr std::size_t kMaxSenders = 256;
+  if (last == last_command_seq_.end() && last_command_seq_.size() >= kMaxSenders) last_command_seq_.clear();
   last_command_seq_[command.sender] = command.seq;
   switch (command.kind) {
     case SpawnRequest::Kind::kPause: paused_ = true; return true;
@@ -120,28 +132,34 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
     reject("spawn of '" + command.model + "': not a virtual dynamic object of the scene");
     return false;
   }
-  int live = 0;
-  for (const auto& body : world_.bodies()) live += body.model == object->id;
-  if (live >= object->max_instances) {
-    reject("spawn of '" + command.model + "': " + std::to_string(live) + " live, the limit is " +
-           std::to_string(object->max_instances));
-    return false;
-  }
-  if (!command.X_WB.matrix().allFinite() || !command.v_WB_m_s.allFinite() || !command.w_WB_rad_s.allFinite()) {
-    reject("spawn of '" + command.model + "': non-finite pose or velocity");
-    return false;
-  }
-  if (command.X_WB.translation().norm() > options_.max_spawn_distance_m) {
-    reject("spawn of '" + command.model + "': further than " + std::to_string(options_.max_spawn_distance_m) +
-           " m from the world origin");
-    return false;
-  }
-  if (command.v_WB_m_s.norm() > options_.max_spawn_speed_m_s) {
-    reject("spawn of '" + command.model + "': faster than " + std::to_string(options_.max_spawn_speed_m_s) + " m/s");
-    return false;
-  }
   const std::string id = object->id + "#" + std::to_string(spawn_counter_[object->id]);
-  dynamics::RigidBody body = dynamics::make_instance(*object, id, command.X_WB, command.v_WB_m_s, command.w_WB_rad_s);
+  const std::string refusal = add_instance(*object, id, command.X_WB, command.v_WB_m_s, command.w_WB_rad_s);
+  if (!refusal.empty()) {
+    reject("spawn of '" + command.model + "': " + refusal);
+    return false;
+  }
+  return true;
+}
+
+std::string SimulatorCore::add_instance(const config::ObjectConfig& object, const std::string& id,
+                                        const geometry::Pose& X_WB, const Eigen::Vector3d& v_WB_m_s,
+                                        const Eigen::Vector3d& w_WB_rad_s) {
+  int live = 0;
+  for (const auto& body : world_.bodies()) live += body.model == object.id;
+  if (live >= object.max_instances) {
+    return std::to_string(live) + " live, the limit is " + std::to_string(object.max_instances);
+  }
+  if (!X_WB.matrix().allFinite() || !v_WB_m_s.allFinite() || !w_WB_rad_s.allFinite()) {
+    return "non-finite pose or velocity";
+  }
+  if (X_WB.translation().norm() > options_.max_spawn_distance_m) {
+    return "further than " + std::to_string(options_.max_spawn_distance_m) + " m from the world origin";
+  }
+  if (v_WB_m_s.norm() > options_.max_spawn_speed_m_s) {
+    return "faster than " + std::to_string(options_.max_spawn_speed_m_s) + " m/s";
+  }
+  if (world_.find(id) >= 0) return "a body '" + id + "' exists";
+  dynamics::RigidBody body = dynamics::make_instance(object, id, X_WB, v_WB_m_s, w_WB_rad_s);
   // A body spawned into another one cannot be resolved physically (both are pushed
   // apart at the depenetration speed, and a stack of them buries the solver): refused.
   for (const auto& other : world_.bodies()) {
@@ -158,14 +176,53 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
         overlap = overlap || point.distance_m < 0.0;
       }
     }
-    if (overlap) {
-      reject("spawn of '" + command.model + "': would overlap '" + other.id + "'");
-      return false;
+    if (overlap) return "would overlap '" + other.id + "'";
+  }
+  // Generated ids continue after the highest one in use ("bunny#7" -> next "bunny#8").
+  const std::size_t hash = id.rfind('#');
+  int number = -1;
+  if (hash != std::string::npos && id.compare(0, hash, object.id) == 0) {
+    try {
+      number = std::stoi(id.substr(hash + 1));
+    } catch (const std::exception&) {
+      number = -1;
     }
   }
-  ++spawn_counter_[object->id];
+  spawn_counter_[object.id] = std::max(spawn_counter_[object.id], number + 1);
   world_.add_body(std::move(body));
-  return true;
+  return "";
+}
+
+RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) {
+  RecoveryReport report;
+  for (const RecoveredBody& saved : bodies) {
+    const config::ObjectConfig* object = scene_.find_object(saved.model);
+    if (!object || object->role != config::Role::kVirtual || object->motion != config::Motion::kDynamic) {
+      // Real bodies come back from tracking; static ones from the scene.
+      if (!object) report.lost.push_back(saved.body_id + ": model '" + saved.model + "' is not in the scene");
+      continue;
+    }
+    const int index = world_.find(saved.body_id);
+    if (index >= 0) {  // a body the scene starts with: continue it where it was
+      dynamics::RigidBody& body = world_.body(index);
+      if (!saved.X_WB.matrix().allFinite() || !saved.v_WB_m_s.allFinite() || !saved.w_WB_rad_s.allFinite()) {
+        report.lost.push_back(saved.body_id + ": non-finite state");
+        continue;
+      }
+      body.X_WB = saved.X_WB;
+      body.w_W_rad_s = saved.w_WB_rad_s;
+      body.v_WC_m_s = saved.v_WB_m_s + saved.w_WB_rad_s.cross(body.com_W() - saved.X_WB.translation());
+      ++report.recovered;
+      continue;
+    }
+    const std::string refusal = add_instance(*object, saved.body_id, saved.X_WB, saved.v_WB_m_s, saved.w_WB_rad_s);
+    if (refusal.empty()) {
+      ++report.recovered;
+    } else {
+      report.lost.push_back(saved.body_id + ": " + refusal);
+    }
+  }
+  return report;
 }
 
 // Each tracked body moves, over [t0, t1], from where it is to where its tracking says,
@@ -207,6 +264,15 @@ int SimulatorCore::advance_to(double t_s) {
     update_kinematic(world_.time_s(), world_.time_s() + dt);
     last_report_ = world_.step(dt);
     ++steps;
+    // A virtual body that fell off the table would fall forever and hold one of the
+    // scene's instances: past the world radius it is removed, and said so.
+    for (int i = static_cast<int>(world_.bodies().size()) - 1; i >= 0; --i) {
+      const auto& body = world_.bodies()[i];
+      if (!body.real && body.is_dynamic() && !(body.X_WB.translation().norm() <= options_.world_radius_m)) {
+        left_world_.push_back(body.id);
+        world_.remove_body(i);
+      }
+    }
   }
   return steps;
 }

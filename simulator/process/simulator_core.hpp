@@ -46,11 +46,25 @@ struct SpawnRequest {
   Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
 };
 
+// A virtual body as a previous simulator left it (its last world state), to resume.
+struct RecoveredBody {
+  std::string body_id, model;
+  geometry::Pose X_WB = geometry::Pose::Identity();
+  Eigen::Vector3d v_WB_m_s = Eigen::Vector3d::Zero();  // velocity of the body origin, world frame
+  Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
+};
+
+struct RecoveryReport {
+  int recovered = 0;
+  std::vector<std::string> lost;  // "body id: why"
+};
+
 struct CoreOptions {
   TrackingPolicy policy = TrackingPolicy::kDelay;
   double stale_timeout_s = 0.5;      // no pose for this long: the object is held still
   double max_spawn_speed_m_s = 20;   // faster spawns are refused
   double max_spawn_distance_m = 10;  // spawns further from the world origin are refused
+  double world_radius_m = 10;        // virtual bodies further than this (fallen off) are removed
 };
 
 // A contact the proxy of a real object made with a static virtual body.
@@ -68,6 +82,13 @@ class SimulatorCore {
   int on_tracking(const TrackingFrame& frame);
   // Returns true when the command was carried out.
   bool on_command(const SpawnRequest& command);
+
+  // Puts back the virtual dynamic bodies a previous run of the process left (after a
+  // crash or restart): bodies the scene starts with continue from the saved state;
+  // spawned ones are spawned again under their ids, within the same limits as a spawn
+  // command. What cannot come back is listed with the reason. Real bodies are skipped:
+  // tracking brings them back.
+  RecoveryReport recover(const std::vector<RecoveredBody>& bodies);
 
   // Steps the world (fixed time step) up to simulation time t_s. Returns the steps taken.
   int advance_to(double t_s);
@@ -89,12 +110,17 @@ class SimulatorCore {
   const std::map<std::string, int64_t>& rejections() const { return rejections_; }
   int64_t rejected_total() const;
   std::string last_rejection() const { return last_rejection_; }
+  // Virtual bodies removed because they left the world (world_radius_m), oldest first.
+  const std::vector<std::string>& left_world() const { return left_world_; }
   // Objects whose track is lost or stale.
   std::vector<std::string> lost_objects() const;
   double added_latency_s(const std::string& object_id) const;
 
  private:
   void reject(const std::string& reason);
+  // Adds a virtual dynamic instance of object, or returns why not (limits, overlap).
+  std::string add_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,
+                           const Eigen::Vector3d& v_WB_m_s, const Eigen::Vector3d& w_WB_rad_s);
   void reset();
   void update_kinematic(double t0, double t1);
 
@@ -112,6 +138,7 @@ class SimulatorCore {
   std::vector<ProxyContact> proxy_contacts_;
   std::map<std::string, int64_t> rejections_;
   std::string last_rejection_;
+  std::vector<std::string> left_world_;
 };
 
 }  // namespace arphys::sim

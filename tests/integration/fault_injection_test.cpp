@@ -2,7 +2,7 @@
 // arphys-fault sends random and truncated bytes on every channel, bad images, NaN and
 // non-unit poses, frames going backwards, a spawn flood and image bursts. No process
 // dies (the launcher exits 0), every process counts what it refused, and no world state
-// ever holds a non-finite pose.
+// ever holds a non-finite pose or a virtual body that jumped.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -15,6 +15,7 @@
 #include "arphys/process_status_t.hpp"
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
+#include "tests/support/world_watch.hpp"
 
 namespace {
 
@@ -27,19 +28,14 @@ TEST(FaultInjection, PipelineSurvivesHostileTrafficAndCountsIt) {
   }
   arphys::msg::Bus bus(kUrl);
   std::map<std::string, arphys::process_status_t> last;
-  long world_states = 0, non_finite = 0;
+  arphys::testing::WorldWatch world;
   bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m,
                                                                const lcm::ReceiveBuffer&, const std::string&) {
     last[m.name] = m;
   });
   bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m,
-                                                                 const lcm::ReceiveBuffer&, const std::string&) {
-    ++world_states;
-    for (const auto& b : m.bodies) {
-      for (double x : b.X_WB.position_m) non_finite += std::isfinite(x) ? 0 : 1;
-      for (double x : b.X_WB.orientation_wxyz) non_finite += std::isfinite(x) ? 0 : 1;
-    }
-  });
+                                                                 const lcm::ReceiveBuffer&,
+                                                                 const std::string&) { world.on_world_state(m); });
   const std::string out = ::testing::TempDir() + "fault_injection_test";
   std::filesystem::remove_all(out);
   int launch_status = -1;
@@ -64,8 +60,10 @@ TEST(FaultInjection, PipelineSurvivesHostileTrafficAndCountsIt) {
   fault.join();
   launcher.join();
   EXPECT_TRUE(WIFEXITED(launch_status) && WEXITSTATUS(launch_status) == 0) << "a process died: see " << out << ".log";
-  EXPECT_GT(world_states, 300);
-  EXPECT_EQ(non_finite, 0);
+  EXPECT_GT(world.states, 300);
+  EXPECT_EQ(world.non_finite, 0);
+  // Bunnies are thrown at 0.3 m/s and pushed at 0.5 m/s: 5 m/s would be a launch.
+  EXPECT_LT(world.fastest_m_s, 5.0) << world.fastest_body << " at " << world.fastest_at_s << " s";
   ASSERT_EQ(last.count("simulator"), 1u);
   ASSERT_EQ(last.count("tracker"), 1u);
   ASSERT_EQ(last.count("renderer"), 1u);

@@ -1,7 +1,9 @@
-// Process faults: during a run of application 2 the tracker, the simulator and the
-// renderer are killed (SIGKILL) in turn. With --restart the launcher brings each back on
-// the same channels; the others keep running; the run ends with exit code 0, the restarts
-// are reported, and frames keep being tracked, simulated and drawn after each restart.
+// Process faults: during a run of application 2 the tracker, the simulator, the renderer
+// and lcm-logger are killed (SIGKILL) in turn. With --restart the launcher brings each
+// back on the same channels; the others keep running; the run ends with exit code 0, the
+// restarts are reported, frames keep being tracked, simulated and drawn after each
+// restart, the restarted simulator resumes the bunnies it had (from its state file), and
+// the restarted logger writes a second file instead of overwriting the first.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -10,8 +12,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 #include <thread>
 
+#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
 #include "arphys/render_status_t.hpp"
@@ -33,10 +38,21 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   }
   arphys::msg::Bus bus(kUrl);
   std::vector<double> world_times, render_times;  // seconds since the test started
+  // Virtual bodies (id -> position) in each world state, to compare across the restart.
+  std::vector<std::map<std::string, Eigen::Vector3d>> world_bodies;
   const auto t0 = std::chrono::steady_clock::now();
   auto now_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t&, const lcm::ReceiveBuffer&,
-                                                                 const std::string&) { world_times.push_back(now_s()); });
+  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
+                                                                 const std::string&) {
+    world_times.push_back(now_s());
+    std::map<std::string, Eigen::Vector3d> bodies;
+    for (const auto& b : m.bodies) {
+      if (b.role == arphys::body_state_t::ROLE_VIRTUAL && b.motion == arphys::body_state_t::MOTION_DYNAMIC) {
+        bodies[b.body_id] = Eigen::Vector3d(b.X_WB.position_m[0], b.X_WB.position_m[1], b.X_WB.position_m[2]);
+      }
+    }
+    world_bodies.push_back(bodies);
+  });
   bus.subscribe<arphys::render_status_t>("ARPHYS_RENDER_STATUS", [&](const arphys::render_status_t&,
                                                                      const lcm::ReceiveBuffer&,
                                                                      const std::string&) { render_times.push_back(now_s()); });
@@ -46,7 +62,7 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   std::thread launcher([&] {
     status = std::system((std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
                           "/tools/arphys-launch " + ARPHYS_SOURCE_DIR +
-                          "/configs/scenes/bunny_box_table.yaml --duration 12 --restart --lcm-url " + kUrl + " --out " +
+                          "/configs/scenes/bunny_box_table.yaml --duration 12 --restart --record --lcm-url " + kUrl + " --out " +
                           out + " > " + out + ".log 2>&1")
                              .c_str());
   });
@@ -59,6 +75,8 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   kill_process_named("simulator/app/arphys-simulator");
   pump_until(8.5);
   kill_process_named("renderer/app/renderer");
+  pump_until(9.5);
+  kill_process_named("lcm-logger");
   pump_until(16.5);
   launcher.join();
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "see " << out << ".log";
@@ -67,6 +85,39 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   EXPECT_EQ(report["restarts"]["tracker"], 1);
   EXPECT_EQ(report["restarts"]["simulator"], 1);
   EXPECT_EQ(report["restarts"]["renderer"], 1);
+  EXPECT_EQ(report["restarts"]["recorder"], 1);
+  // Both recordings are there: the killed logger's and its successor's.
+  EXPECT_GT(std::filesystem::file_size(out + "/run.lcmlog"), 100'000u);
+  EXPECT_GT(std::filesystem::file_size(out + "/run.1.lcmlog"), 100'000u);
+  EXPECT_TRUE(std::filesystem::exists(out + "/overlay.1.avi"));
+  // The simulator's restart is the longest pause of the world states after 6 s; the
+  // bunnies before it come back after it, where they were (the state file is at most
+  // 0.2 s old, and a bunny on the table moves under 0.5 m/s; one falling off the table
+  // moves faster and may have left the world).
+  std::size_t gap_end = 0;
+  double widest = 0;
+  for (std::size_t i = 1; i < world_times.size(); ++i) {
+    if (world_times[i - 1] > 6.0 && world_times[i] - world_times[i - 1] > widest) {
+      widest = world_times[i] - world_times[i - 1];
+      gap_end = i;
+    }
+  }
+  ASSERT_GT(gap_end, 0u);
+  const auto& before = world_bodies[gap_end - 1];
+  const auto& after_restart = world_bodies[gap_end];
+  EXPECT_GE(before.size(), 4u);  // the scene's bunny and those spawned by then
+  int on_table = 0;
+  for (const auto& [id, p] : before) {
+    if (p.z() < -0.05) continue;  // falling off the table
+    ++on_table;
+    ASSERT_EQ(after_restart.count(id), 1u) << id << " was not resumed";
+    EXPECT_LT((after_restart.at(id) - p).norm(), 0.15) << id << " before " << p.transpose() << " after "
+                                                       << after_restart.at(id).transpose();
+  }
+  std::ifstream simulator_log(out + "/simulator.1.log");
+  const std::string log_text((std::istreambuf_iterator<char>(simulator_log)), std::istreambuf_iterator<char>());
+  EXPECT_GE(on_table, 3);
+  EXPECT_NE(log_text.find("resumed "), std::string::npos) << log_text;
   // After the last kill the pipeline is whole again: world states and overlays keep coming.
   const auto after = [](const std::vector<double>& times, double t) {
     return std::count_if(times.begin(), times.end(), [t](double x) { return x > t; });

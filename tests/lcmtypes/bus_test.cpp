@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <climits>
+#include <cstdlib>
 
 #include "arphys/image_t.hpp"
 #include "arphys/tracker_control_t.hpp"
@@ -121,6 +122,45 @@ TEST(Bus, BadUrlSaysWhatToDo) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("nonsense://x"), std::string::npos) << e.what();
   }
+}
+
+// Injected receive loss drops about the asked fraction, counts it, and the messages
+// that pass are delivered whole; the same seed drops the same messages.
+TEST(Bus, InjectedReceiveLossDropsTheAskedFraction) {
+  ::setenv("ARPHYS_FAULT_RECEIVE_LOSS", "0.2", 1);
+  ::setenv("ARPHYS_FAULT_SEED", "11", 1);
+  auto run = [] {
+    Bus bus("memq://");
+    std::vector<int64_t> delivered;
+    bus.subscribe<arphys::world_state_t>("WS", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
+                                                   const std::string&) { delivered.push_back(m.seq); });
+    for (int i = 0; i < 2000; ++i) {
+      arphys::world_state_t ws{};
+      ws.seq = i;
+      bus.publish("WS", ws);
+      bus.handle_pending();
+    }
+    EXPECT_EQ(bus.counters().injected_losses + bus.counters().received, 2000);
+    EXPECT_EQ(bus.counters().received, static_cast<int64_t>(delivered.size()));
+    return delivered;
+  };
+  const auto first = run();
+  const auto second = run();
+  ::unsetenv("ARPHYS_FAULT_RECEIVE_LOSS");
+  ::unsetenv("ARPHYS_FAULT_SEED");
+  EXPECT_NEAR(static_cast<double>(first.size()), 1600.0, 60.0);  // 20 % lost; 3 sigma is about 54
+  EXPECT_EQ(first, second);
+}
+
+TEST(Bus, MalformedLossSettingNamesTheVariable) {
+  ::setenv("ARPHYS_FAULT_RECEIVE_LOSS", "lots", 1);
+  try {
+    Bus bus("memq://");
+    ADD_FAILURE() << "accepted a malformed loss";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ARPHYS_FAULT_RECEIVE_LOSS='lots'"), std::string::npos) << e.what();
+  }
+  ::unsetenv("ARPHYS_FAULT_RECEIVE_LOSS");
 }
 
 }  // namespace

@@ -84,11 +84,11 @@ struct Csv {
   Csv(const std::string& path, const std::string& header) : out(path) { out << header << "\n"; }
 };
 
-void run_stack(const std::vector<std::string>& engines, double duration, Csv& csv) {
+void run_stack(const std::vector<std::string>& engines, double duration, const std::vector<double>& dts, Csv& csv) {
   std::printf("\n== stack: frictionless, %.0f s\n%-18s %3s %6s %8s %9s %12s %10s %10s\n", duration, "engine", "n", "dt_ms",
               "toppled", "topple_s", "top_drift_mm", "tilt_deg", "ms/step");
   for (int n : {5, 10})
-    for (double dt : {1e-3, 1e-2})
+    for (double dt : dts)
       for (const std::string& e : engines) {
         BenchScene scene;
         scene.bodies.push_back(plane());
@@ -254,13 +254,16 @@ int main(int argc, char** argv) {
   std::string out = ".";
   bool quick = false;
   std::vector<int> drop_counts{10, 100, 1000};
-  double drop_seconds = 1.0;
+  double drop_seconds = 1.0, stack_seconds = 0;
+  std::vector<double> stack_dts{1e-3, 1e-2};
   app.add_option("--scenes", scenes, "scenes to run")->delimiter(',');
   app.add_option("--engines", engines, "engines to run")->delimiter(',');
   app.add_option("--out", out, "directory for the CSV files");
   app.add_flag("--quick", quick, "short runs (smoke test)");
   app.add_option("--drop-counts", drop_counts, "drop scene: numbers of boxes")->delimiter(',');
   app.add_option("--drop-seconds", drop_seconds, "drop scene: simulated seconds");
+  app.add_option("--stack-dts", stack_dts, "stack scene: time steps, seconds")->delimiter(',')->capture_default_str();
+  app.add_option("--stack-seconds", stack_seconds, "stack scene: simulated seconds (default 60, --quick 2)");
   CLI11_PARSE(app, argc, argv);
   std::printf("arphys-dyn-bench: engines %s\n", [&] {
     std::string s;
@@ -270,7 +273,7 @@ int main(int argc, char** argv) {
   for (const std::string& scene : scenes) {
     if (scene == "stack") {
       Csv csv(out + "/dyn_stack.csv", "engine,n,dt_s,toppled,topple_t_s,top_drift_mm,max_tilt_deg,ms_per_step");
-      run_stack(engines, quick ? 2.0 : 60.0, csv);
+      run_stack(engines, stack_seconds > 0 ? stack_seconds : (quick ? 2.0 : 60.0), stack_dts, csv);
     } else if (scene == "push") {
       Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step");
       run_push(engines, csv);

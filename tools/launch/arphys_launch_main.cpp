@@ -36,7 +36,11 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
+#include "arphys/ground_truth_t.hpp"
+#include "configs/loader/camera_config.hpp"
+#include "simulator/geometry/triangle_mesh.hpp"
 #include "tools/launch/latency_report.hpp"
+#include "tools/launch/registration_report.hpp"
 
 extern char** environ;
 
@@ -78,6 +82,71 @@ std::string default_script_for(const config::SceneConfig& scene) {
   return "";
 }
 
+// Resident memory of each process over the run, from its heartbeats: the figure a leak
+// shows in. The baseline is taken once the process has run warm_up_s (caches, the
+// first frames and meshes are loaded by then); a restarted process starts a new one.
+struct MemoryWatch {
+  double warm_up_s = 10;
+  struct Process {
+    int32_t pid = 0;
+    double baseline_mb = -1, baseline_uptime_s = 0, last_mb = 0, last_uptime_s = 0, max_mb = 0;
+  };
+  std::map<std::string, Process> processes;
+
+  void on_heartbeat(const arphys::process_status_t& status) {
+    double rss_mb = -1;
+    for (int i = 0; i < status.num_figures; ++i) {
+      if (status.figure_names[i] == "rss_mb") rss_mb = status.figure_values[i];
+    }
+    if (rss_mb < 0) return;
+    Process& p = processes[status.name];
+    if (p.pid != status.pid) p = Process{status.pid};
+    if (p.baseline_mb < 0 && status.uptime_s >= warm_up_s) {
+      p.baseline_mb = rss_mb;
+      p.baseline_uptime_s = status.uptime_s;
+    }
+    p.last_mb = rss_mb;
+    p.last_uptime_s = status.uptime_s;
+    p.max_mb = std::max(p.max_mb, rss_mb);
+  }
+
+  nlohmann::json to_json() const {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [name, p] : processes) {
+      nlohmann::json entry{{"pid", p.pid}, {"rss_mb_end", p.last_mb}, {"rss_mb_max", p.max_mb}};
+      if (p.baseline_mb >= 0) {
+        entry["rss_mb_after_warm_up"] = p.baseline_mb;
+        entry["growth_mb"] = p.last_mb - p.baseline_mb;
+        entry["over_s"] = p.last_uptime_s - p.baseline_uptime_s;
+      }
+      out[name] = entry;
+    }
+    return out;
+  }
+};
+
+// The tracked real object whose overlay registration is measured (the first kinematic
+// real object) and the corners of its bounding box, object frame.
+std::unique_ptr<tools::RegistrationReport> registration_for(const config::SceneConfig& scene) {
+  if (scene.camera_file.empty()) return nullptr;
+  for (const auto& o : scene.objects) {
+    if (o.role != config::Role::kReal || o.motion != config::Motion::kKinematic) continue;
+    Eigen::AlignedBox3d box;
+    switch (o.collision.type) {
+      case config::ShapeType::kBox: box = Eigen::AlignedBox3d(-0.5 * o.collision.size_m, 0.5 * o.collision.size_m); break;
+      case config::ShapeType::kSphere:
+        box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-o.collision.radius_m), Eigen::Vector3d::Constant(o.collision.radius_m));
+        break;
+      case config::ShapeType::kMesh: box = geometry::load_mesh(o.collision.mesh_path, o.collision.scale).bounds(); break;
+      case config::ShapeType::kPlane: continue;
+    }
+    std::vector<Eigen::Vector3d> corners;
+    for (int i = 0; i < 8; ++i) corners.push_back(box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)));
+    return std::make_unique<tools::RegistrationReport>(config::load_camera(scene.camera_file), o.id, corners);
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -87,6 +156,8 @@ int main(int argc, char** argv) {
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
   double duration_s = 20, spawn_every_s = 1.0;
   bool record = false, restart = false;
+  double receive_loss = 0;
+  std::string tracking_policy;
   app.add_option("scene", scene_path, "scene YAML")->capture_default_str();
   app.add_option("--camera", camera, "synthetic (the scene's camera script), /dev/videoN, or a video file")
       ->capture_default_str();
@@ -103,6 +174,12 @@ int main(int argc, char** argv) {
   app.add_option("--spawn-every", spawn_every_s, "spawn the scene's first dynamic virtual model every S seconds, "
                                                  "thrown onto the table (0: none)")->capture_default_str();
   app.add_option("--lcm-url", url, "LCM URL for every process (default: the scene's)");
+  app.add_option("--tracking-policy", tracking_policy, "override the scene's tracking policy in the simulator")
+      ->check(CLI::IsMember({"delay", "extrapolate"}));
+  app.add_option("--receive-loss", receive_loss,
+                 "fault injection: every started process drops this fraction of the messages it receives, at random "
+                 "(ARPHYS_FAULT_RECEIVE_LOSS)")
+      ->check(CLI::Range(0.0, 0.99));
   app.add_option("--build", build_dir, "build directory holding the executables")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
@@ -135,7 +212,19 @@ int main(int argc, char** argv) {
   }
   // Watch everything from the start.
   tools::LatencyReport latency;
+  std::unique_ptr<tools::RegistrationReport> registration;
+  try {
+    if (camera == "synthetic") registration = registration_for(scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-launch: no registration error measured: %s\n", e.what());
+  }
+  if (registration) {
+    bus->subscribe<arphys::ground_truth_t>(scene.channels.ground_truth, [&](const arphys::ground_truth_t& m,
+                                                                           const lcm::ReceiveBuffer&,
+                                                                           const std::string&) { registration->on_ground_truth(m); });
+  }
   std::map<std::string, arphys::process_status_t> heartbeats;
+  MemoryWatch memory;
   bus->subscribe<arphys::image_t>(scene.channels.camera_image, [&](const arphys::image_t& m, const lcm::ReceiveBuffer&,
                                                                   const std::string&) { latency.on_image(m); });
   bus->subscribe<arphys::marker_detections_t>(
@@ -146,14 +235,23 @@ int main(int argc, char** argv) {
                                                                          const std::string&) { latency.on_poses(m); });
   bus->subscribe<arphys::world_state_t>(scene.channels.world_state, [&](const arphys::world_state_t& m,
                                                                        const lcm::ReceiveBuffer&,
-                                                                       const std::string&) { latency.on_world_state(m); });
+                                                                       const std::string&) {
+    latency.on_world_state(m);
+    if (registration) registration->on_world_state(m);
+  });
   bus->subscribe<arphys::render_status_t>(scene.channels.render_status, [&](const arphys::render_status_t& m,
                                                                            const lcm::ReceiveBuffer&,
-                                                                           const std::string&) { latency.on_render_status(m); });
+                                                                           const std::string&) {
+    latency.on_render_status(m);
+    if (registration) registration->on_render_status(m);
+  });
   bus->subscribe<arphys::process_status_t>(scene.channels.process_status, [&](const arphys::process_status_t& m,
                                                                              const lcm::ReceiveBuffer&, const std::string&) {
     heartbeats[m.name] = m;
+    memory.on_heartbeat(m);
   });
+  // Set after the launcher's own bus exists: only the children lose messages.
+  if (receive_loss > 0) setenv("ARPHYS_FAULT_RECEIVE_LOSS", std::to_string(receive_loss).c_str(), 1);
 
   std::vector<Child> children;
   std::map<std::string, int> restarts;
@@ -170,7 +268,18 @@ int main(int argc, char** argv) {
   };
   const std::string b = build_dir;
   if (record && !out_dir.empty()) start_child("recorder", {"lcm-logger", "--lcm-url=" + url, "--force", out_dir + "/run.lcmlog"});
-  if (wanted("simulator")) start_child("simulator", {b + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url, "--duration", seconds});
+  // The simulator keeps its last world state in a file, so a restarted one resumes the
+  // virtual bodies; a new run starts from the scene.
+  const std::string state_file = (out_dir.empty() ? std::filesystem::temp_directory_path().string() + "/arphys-launch-" +
+                                                         std::to_string(getpid())
+                                                   : out_dir + "/simulator") + ".state";
+  std::filesystem::remove(state_file);
+  if (wanted("simulator")) {
+    std::vector<std::string> args{b + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url, "--duration", seconds,
+                                  "--state-file", state_file};
+    if (!tracking_policy.empty()) args.insert(args.end(), {"--tracking-policy", tracking_policy});
+    start_child("simulator", args);
+  }
   if (wanted("renderer")) {
     std::vector<std::string> args{b + "/renderer/app/renderer", "--scene", scene.file, "--lcm-url", url, "--duration", seconds};
     if (!out_dir.empty()) {
@@ -233,10 +342,18 @@ int main(int argc, char** argv) {
         if (expected) continue;
         if (restart && !g_stop) {
           // The others keep running; the process comes back on the same channels and
-          // resynchronises from the traffic (a simulator restarts its scene afresh).
+          // resynchronises from the traffic (the simulator resumes its virtual bodies from
+          // its state file). What it writes goes to new files: nothing recorded is lost.
+          const int n = ++restarts[c.name];
           const std::string log = log_of(c.name).empty() ? std::string() : out_dir + "/" + c.name + "." +
-                                                                                  std::to_string(++restarts[c.name]) + ".log";
-          if (log.empty()) ++restarts[c.name];
+                                                                                  std::to_string(n) + ".log";
+          auto renamed = [n](std::string path, const std::string& extension) {
+            return path.substr(0, path.size() - extension.size()) + "." + std::to_string(n) + extension;
+          };
+          if (c.name == "recorder") c.args.back() = renamed(out_dir + "/run.lcmlog", ".lcmlog");
+          for (std::size_t i = 0; i + 1 < c.args.size(); ++i) {
+            if (c.args[i] == "--video") c.args[i + 1] = renamed(out_dir + "/overlay.avi", ".avi");
+          }
           std::fprintf(stderr, "arphys-launch: %s died (%s %d), restarting it (restart %d)\n", c.name.c_str(),
                        WIFSIGNALED(c.status) ? "signal" : "exit code",
                        WIFSIGNALED(c.status) ? WTERMSIG(c.status) : WEXITSTATUS(c.status), restarts[c.name]);
@@ -288,6 +405,18 @@ int main(int argc, char** argv) {
   report["tracker"] = tracker_impl;
   report["duration_s"] = duration_s;
   report["restarts"] = restarts;
+  report["memory"] = memory.to_json();
+  report["receive_loss"] = receive_loss;
+  report["tracking_policy"] = tracking_policy.empty() ? scene.tracking_policy : tracking_policy;
+  if (registration) {
+    report["registration"] = registration->to_json();
+    const auto& r = report["registration"];
+    if (r["count"].get<int>() > 0) {
+      std::printf("overlay registration of '%s': p50 %.2f px, p95 %.2f px, max %.2f px over %d frames\n",
+                  r["object"].get<std::string>().c_str(), r["p50_px"].get<double>(), r["p95_px"].get<double>(),
+                  r["max_px"].get<double>(), r["count"].get<int>());
+    }
+  }
   latency.print();
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
@@ -295,6 +424,13 @@ int main(int argc, char** argv) {
     std::printf("written: %s/overlay.avi, %s/latency.json%s\n", out_dir.c_str(), out_dir.c_str(),
                 record ? (", " + out_dir + "/run.lcmlog").c_str() : "");
   }
+  for (const auto& [name, p] : memory.processes) {
+    if (p.baseline_mb >= 0) {
+      std::fprintf(stderr, "memory %-10s %.1f MB after warm-up, %+.2f MB over %.0f s\n", name.c_str(), p.baseline_mb,
+                   p.last_mb - p.baseline_mb, p.last_uptime_s - p.baseline_uptime_s);
+    }
+  }
+  if (!state_file.empty() && out_dir.empty()) std::filesystem::remove(state_file);
   if (!died.empty()) {
     std::fprintf(stderr, "arphys-launch: %s died unexpectedly%s\n", died.c_str(),
                  out_dir.empty() ? "" : (" (see " + log_of(died) + ")").c_str());

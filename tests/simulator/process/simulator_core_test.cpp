@@ -132,6 +132,92 @@ TEST(SimulatorCore, SpawnIntoAnotherBodyIsRefused) {
   EXPECT_TRUE(core.on_command(spawn));
 }
 
+// A restarted simulator resumes the virtual bodies its previous run left: the scene's
+// own bunny continues from its saved state, spawned ones come back under their ids,
+// the next spawn continues the numbering, and what cannot come back says why.
+TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
+  const config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  SimulatorCore before(scene, {});
+  SpawnRequest spawn;
+  spawn.sender = "test";
+  spawn.model = "bunny";
+  for (int k = 0; k < 3; ++k) {
+    spawn.seq = k + 1;
+    spawn.X_WB = geometry::make_pose({-0.3 + 0.25 * k, 0.1, 0.3}, {0.7071067811865476, 0.7071067811865476, 0, 0});
+    spawn.v_WB_m_s = Eigen::Vector3d(0, 0.2, 0);
+    ASSERT_TRUE(before.on_command(spawn)) << before.last_rejection();
+  }
+  before.advance_to(0.2);
+  std::vector<RecoveredBody> saved;
+  for (const auto& body : before.world().bodies()) {
+    if (body.real || !body.is_dynamic()) continue;
+    saved.push_back({body.id, body.model, body.X_WB, body.origin_velocity(), body.w_W_rad_s});
+  }
+  ASSERT_EQ(saved.size(), 4u);  // bunny#0 from the scene, bunny#1..3 spawned
+  RecoveredBody unknown = saved.back();
+  unknown.body_id = "teapot#0";
+  unknown.model = "teapot";
+  RecoveredBody twin = saved.back();  // on top of bunny#3
+  twin.body_id = "bunny#9";
+  std::vector<RecoveredBody> file = saved;
+  file.push_back(unknown);
+  file.push_back(twin);
+
+  SimulatorCore after(scene, {});
+  const RecoveryReport report = after.recover(file);
+  EXPECT_EQ(report.recovered, 4);
+  ASSERT_EQ(report.lost.size(), 2u);
+  EXPECT_EQ(report.lost[0], "teapot#0: model 'teapot' is not in the scene");
+  EXPECT_EQ(report.lost[1], "bunny#9: would overlap 'bunny#3'");
+  for (const RecoveredBody& b : saved) {
+    const int index = after.world().find(b.body_id);
+    ASSERT_GE(index, 0) << b.body_id;
+    const auto& body = after.world().bodies()[index];
+    EXPECT_LT((body.X_WB.matrix() - b.X_WB.matrix()).norm(), 1e-12) << b.body_id;
+    EXPECT_LT((body.origin_velocity() - b.v_WB_m_s).norm(), 1e-12) << b.body_id;
+  }
+  spawn.seq = 1;
+  spawn.X_WB = geometry::make_pose({0.4, -0.3, 0.3}, {0.7071067811865476, 0.7071067811865476, 0, 0});
+  ASSERT_TRUE(after.on_command(spawn)) << after.last_rejection();
+  EXPECT_GE(after.world().find("bunny#4"), 0);
+}
+
+// A bunny thrown past the table falls out of the world: it is removed (so it no longer
+// holds an instance) and listed, instead of falling forever.
+TEST(SimulatorCore, BodyLeavingTheWorldIsRemovedAndListed) {
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  SpawnRequest spawn;
+  spawn.sender = "test";
+  spawn.model = "bunny";
+  spawn.seq = 1;
+  spawn.X_WB = geometry::translation_pose({1.0, 0, 0.3});  // beside the table
+  spawn.v_WB_m_s = Eigen::Vector3d(0, 0, -15);
+  ASSERT_TRUE(core.on_command(spawn));
+  ASSERT_GE(core.world().find("bunny#1"), 0);
+  core.advance_to(0.5);
+  ASSERT_GE(core.world().find("bunny#1"), 0);  // 8.7 m down: still inside
+  core.advance_to(1.0);
+  EXPECT_LT(core.world().find("bunny#1"), 0);
+  ASSERT_EQ(core.left_world().size(), 1u);
+  EXPECT_EQ(core.left_world()[0], "bunny#1");
+  EXPECT_GE(core.world().find("bunny#0"), 0);  // the one on the table stays
+}
+
+// Hostile traffic with ever-new object ids and senders must not grow the process's
+// tables: the refusals are all counted, in a bounded table.
+TEST(SimulatorCore, RefusalTablesStayBoundedUnderRandomNames) {
+  SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  for (int k = 0; k < 5000; ++k) {
+    core.on_tracking(frame(kStart + 1000 * k, k + 1, "ghost" + std::to_string(k), {0, 0, 0}));
+    SpawnRequest spawn;
+    spawn.sender = "sender" + std::to_string(k);
+    spawn.model = "teapot" + std::to_string(k);
+    core.on_command(spawn);
+  }
+  EXPECT_EQ(core.rejected_total(), 10000);
+  EXPECT_LE(core.rejections().size(), 65u);
+}
+
 TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
   auto run = [] {
     SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});

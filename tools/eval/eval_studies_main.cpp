@@ -1,0 +1,169 @@
+// arphys-eval-studies: the evaluation's studies that no per-stage benchmark covers.
+//   tracking-map  frame rate x tracking noise x how tracking drives the box, against what
+//                 a pushed bunny does (docs/EVALUATION.md, "stability where methods fail")
+//   loss-flip     lost tracks (re-acquired further on) and pose flips, same scenario
+//   model-size    table plane/box/mesh, bunny mesh 500..70k triangles, friction on/off:
+//                 accuracy of rest poses against cost ("model no more than a scene needs")
+// Each writes one CSV into --out and prints a progress line per run.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "configs/loader/scene_config.hpp"
+#include "simulator/geometry/triangle_mesh.hpp"
+#include "tools/eval/model_study.hpp"
+#include "tools/eval/push_scenario.hpp"
+
+namespace {
+
+using namespace arphys;
+using namespace arphys::eval;
+
+const Drive kDrives[] = {Drive::kScrew, Drive::kScrewFiltered, Drive::kTeleport};
+
+std::ofstream open_csv(const std::string& path, const std::string& header) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out << header << "\n";
+  return out;
+}
+
+void outcome_columns(std::ofstream& csv, const PushOutcome& o) {
+  csv << o.peak_speed_ratio << "," << o.max_overlap_mm << "," << o.max_rise_mm << "," << o.pushed_m << ","
+      << o.ms_per_step << "," << o.non_finite << "\n";
+}
+
+int tracking_map(const config::SceneConfig& scene, const std::string& out, int seeds) {
+  auto csv = open_csv(out + "/eval_tracking_map.csv",
+                      "frame_rate_hz,noise_mm,noise_deg,drive,seed,peak_speed_ratio,max_overlap_mm,max_rise_mm,pushed_m,"
+                      "ms_per_step,non_finite");
+  const double rates[] = {5, 10, 15, 30, 60};
+  const double noise_mm[] = {0, 1, 2, 5};
+  const double noise_deg[] = {0, 0.2, 0.4, 1.0};
+  const int total = 5 * 4 * 3 * seeds;
+  int done = 0;
+  for (double rate : rates)
+    for (int n = 0; n < 4; ++n)
+      for (Drive drive : kDrives)
+        for (int seed = 1; seed <= seeds; ++seed) {
+          PushScenario s;
+          s.frame_rate_hz = rate;
+          s.noise_position_m = noise_mm[n] * 1e-3;
+          s.noise_rotation_deg = noise_deg[n];
+          s.drive = drive;
+          s.seed = static_cast<unsigned>(seed);
+          const PushOutcome o = run_push(scene, s);
+          csv << rate << "," << noise_mm[n] << "," << noise_deg[n] << "," << to_string(drive) << "," << seed << ",";
+          outcome_columns(csv, o);
+          std::fprintf(stderr, "\rtracking-map %d/%d: %2.0f Hz, %.0f mm, %-12s peak %.2fx overlap %.2f mm hop %.1f mm   ",
+                       ++done, total, rate, noise_mm[n], to_string(drive), o.peak_speed_ratio, o.max_overlap_mm,
+                       o.max_rise_mm);
+        }
+  std::fprintf(stderr, "\n");
+  return 0;
+}
+
+int loss_flip(const config::SceneConfig& scene, const std::string& out) {
+  auto csv = open_csv(out + "/eval_loss_flip.csv",
+                      "fault,magnitude,drive,peak_speed_ratio,max_overlap_mm,max_rise_mm,pushed_m,ms_per_step,non_finite");
+  struct Fault {
+    std::string name;
+    double magnitude;
+  };
+  const std::vector<Fault> faults{{"none", 0},  {"lost_s", 0.1},  {"lost_s", 0.3},  {"lost_s", 1.0},
+                                  {"flip_deg", 10}, {"flip_deg", 40}, {"flip_deg", 90}};
+  int done = 0;
+  for (const Fault& f : faults)
+    for (Drive drive : kDrives) {
+      PushScenario s;
+      s.drive = drive;
+      s.noise_position_m = 1e-3;  // a realistic 1 mm / 0.2 degree under the fault
+      s.noise_rotation_deg = 0.2;
+      if (f.name == "lost_s") {
+        s.lost_from_s = 1.0;  // mid-push, touching the bunny
+        s.lost_for_s = f.magnitude;
+      } else if (f.name == "flip_deg") {
+        s.flip_at_s = 1.2;
+        s.flip_angle_deg = f.magnitude;
+      }
+      const PushOutcome o = run_push(scene, s);
+      csv << f.name << "," << f.magnitude << "," << to_string(drive) << ",";
+      outcome_columns(csv, o);
+      std::fprintf(stderr, "\rloss-flip %d/%zu: %s %.1f %-12s peak %.2fx overlap %.2f mm hop %.1f mm   ", ++done,
+                   faults.size() * 3, f.name.c_str(), f.magnitude, to_string(drive), o.peak_speed_ratio, o.max_overlap_mm,
+                   o.max_rise_mm);
+    }
+  std::fprintf(stderr, "\n");
+  return 0;
+}
+
+int model_size(const config::SceneConfig& scene, const std::string& out, const std::string& models, double duration_s) {
+  auto csv = open_csv(out + "/eval_model_size.csv",
+                      "table,bunny_triangles,friction,ms_per_step,max_penetration_mm,rest_position_error_mm,"
+                      "rest_rotation_error_deg");
+  const std::vector<std::pair<std::string, int>> bunnies{{models + "/stanford-bunny-500.obj", 0},
+                                                         {models + "/stanford-bunny-1k.obj", 0},
+                                                         {models + "/stanford-bunny-5k.obj", 0},
+                                                         {models + "/stanford-bunny-70k.ply", 0}};
+  std::vector<ModelVariant> variants;
+  for (bool friction : {true, false}) {
+    for (const auto& [mesh, n] : bunnies) {
+      for (const std::string table : {"box", "plane", "mesh"}) {
+        // Every table with the 5k bunny; every bunny with the box table.
+        if (table != "box" && mesh.find("-5k") == std::string::npos) continue;
+        ModelVariant v;
+        v.table = table;
+        v.bunny_mesh = mesh;
+        v.bunny_triangles = static_cast<int>(geometry::load_mesh(mesh).num_triangles());
+        v.friction = friction;
+        variants.push_back(v);
+      }
+    }
+  }
+  int done = 0;
+  for (bool friction : {true, false}) {
+    // The reference: the richest model with the same friction setting.
+    ModelVariant reference{"box", models + "/stanford-bunny-70k.ply", 0, friction};
+    const ModelOutcome ref = run_model_variant(scene, reference, duration_s, out);
+    for (const ModelVariant& v : variants) {
+      if (v.friction != friction) continue;
+      const ModelOutcome o = run_model_variant(scene, v, duration_s, out);
+      const auto [position_mm, rotation_deg] = rest_pose_error(o.rest_poses, ref.rest_poses);
+      csv << v.table << "," << v.bunny_triangles << "," << v.friction << "," << o.ms_per_step << ","
+          << o.max_penetration_mm << "," << position_mm << "," << rotation_deg << "\n";
+      std::fprintf(stderr, "\rmodel-size %d/%zu: table %-5s bunny %5d tri friction %d: %.2f ms/step, rest error %.2f mm %.2f deg   ",
+                   ++done, variants.size(), v.table.c_str(), v.bunny_triangles, v.friction, o.ms_per_step, position_mm,
+                   rotation_deg);
+    }
+  }
+  std::fprintf(stderr, "\n");
+  std::filesystem::remove(out + "/table_box_mesh.obj");
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"arphys-eval-studies: stability maps and the model-size study of docs/EVALUATION.md"};
+  std::string study, out = ".", scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
+  bool quick = false;
+  app.add_option("study", study, "tracking-map | loss-flip | model-size")
+      ->required()
+      ->check(CLI::IsMember({"tracking-map", "loss-flip", "model-size"}));
+  app.add_option("--out", out, "directory for the CSV")->capture_default_str();
+  app.add_option("--scene", scene_path, "the bunny-box-table scene")->capture_default_str();
+  app.add_flag("--quick", quick, "one seed per cell, shorter settling (fits the --quick evaluation)");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    std::filesystem::create_directories(out);
+    const config::SceneConfig scene = config::load_scene(scene_path);
+    if (study == "tracking-map") return tracking_map(scene, out, quick ? 1 : 3);
+    if (study == "loss-flip") return loss_flip(scene, out);
+    return model_size(scene, out, config::default_config_dir() + "/models", quick ? 1.5 : 2.5);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-eval-studies: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,35 @@
+#pragma once
+// "Model no more than a scene needs": the paper's table-and-bunny scene with its models
+// varied one at a time (the table as a plane, a box or a triangle mesh; the bunny's
+// collision mesh at about 500, 1k, 5k and 70k triangles; friction on or off). Three
+// bunnies are dropped apart (no bunny touches another, so the outcome is not chaotic)
+// and come to rest; accuracy is how far their rest poses are from the richest model's
+// (70k bunny, box table, same friction), cost is milliseconds per step.
+#include <string>
+#include <vector>
+
+#include "configs/loader/scene_config.hpp"
+
+namespace arphys::eval {
+
+struct ModelVariant {
+  std::string table = "box";        // "plane" | "box" | "mesh"
+  std::string bunny_mesh;           // absolute path of the collision mesh
+  int bunny_triangles = 0;          // for the report
+  bool friction = true;
+};
+
+struct ModelOutcome {
+  double ms_per_step = 0;
+  double max_penetration_mm = 0;
+  std::vector<Eigen::Isometry3d> rest_poses;  // bunnies at the end
+};
+
+// work_dir: where the table mesh file is written (the "mesh" table).
+ModelOutcome run_model_variant(const config::SceneConfig& scene, const ModelVariant& variant, double duration_s,
+                               const std::string& work_dir);
+
+// Mean position (mm) and rotation (deg) distance between two sets of rest poses.
+std::pair<double, double> rest_pose_error(const std::vector<Eigen::Isometry3d>& a, const std::vector<Eigen::Isometry3d>& b);
+
+}  // namespace arphys::eval
