@@ -15,8 +15,21 @@ TrackingPolicy tracking_policy_from(const std::string& name) {
   throw std::invalid_argument("tracking policy '" + name + "': expected 'delay' or 'extrapolate'");
 }
 
-TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s)
-    : policy_(policy), frame_interval_s_(default_frame_interval_s) {}
+TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s, double max_speed_m_s,
+                               double max_rate_rad_s)
+    : policy_(policy), max_speed_m_s_(max_speed_m_s), max_rate_rad_s_(max_rate_rad_s),
+      frame_interval_s_(default_frame_interval_s) {
+  if (!(max_speed_m_s > 0) || !(max_rate_rad_s > 0)) {
+    throw std::invalid_argument("TrackingDriver: speed limits must be positive, got " + std::to_string(max_speed_m_s) +
+                                " m/s and " + std::to_string(max_rate_rad_s) + " rad/s");
+  }
+}
+
+double TrackingDriver::earliest_arrival(double t_s, const geometry::Pose& from, const geometry::Pose& to) const {
+  const double distance_m = (to.translation() - from.translation()).norm();
+  const double angle_rad = Eigen::AngleAxisd(from.linear().transpose() * to.linear()).angle();
+  return t_s + std::max(distance_m / max_speed_m_s_, angle_rad / max_rate_rad_s_);
+}
 
 void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s) {
   const bool first = last_capture_s_ < 0 || lost_;
@@ -33,11 +46,14 @@ void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, dou
     if (trajectory_.empty()) {
       trajectory_.add(t, X_WO);
     } else {
-      // Move there over one frame rather than teleport.
-      trajectory_.add(t + frame_interval_s_, X_WO);
+      // Move there over one frame rather than teleport (longer if that is too fast).
+      const geometry::Pose from = trajectory_.poses().back().X_WB;
+      trajectory_.add(std::max(t + frame_interval_s_, earliest_arrival(t, from, X_WO)), X_WO);
     }
   } else if (policy_ == TrackingPolicy::kDelay) {
-    trajectory_.add(std::max(capture_t_s + frame_interval_s_, after + 1e-9), X_WO);
+    const double start = std::max(after, now_s);
+    const geometry::Pose from = trajectory_.pose_at(start);
+    trajectory_.add(std::max({capture_t_s + frame_interval_s_, after + 1e-9, earliest_arrival(start, from, X_WO)}), X_WO);
   } else {
     // Blend from the current (extrapolated) pose to the measurement over half a frame,
     // then keep going with the measured twist for one more frame.

@@ -7,6 +7,10 @@
 //                  arrives it blends to it over half a frame, then extrapolates again:
 //                  no added latency, small corrections.
 // A lost track, or no pose for longer than the stale timeout, holds the body still.
+// Both policies move the body no faster than a hand moves a real object
+// (max_speed_m_s, max_rate_rad_s): a track re-acquired further on, or a pose that flipped
+// to the other solution of a single marker, is reached over as long as that speed needs
+// instead of in one frame, so it does not strike virtual bodies at many m/s.
 #include <cstdint>
 #include <string>
 
@@ -20,7 +24,8 @@ TrackingPolicy tracking_policy_from(const std::string& name);  // "delay" | "ext
 
 class TrackingDriver {
  public:
-  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30);
+  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30, double max_speed_m_s = 1.5,
+                 double max_rate_rad_s = 2 * 3.141592653589793);
 
   // A measured pose captured at simulation time capture_t_s (must increase; the
   // caller checks). now_s: the current simulation time.
@@ -35,7 +40,11 @@ class TrackingDriver {
   double added_latency_s() const { return policy_ == TrackingPolicy::kDelay ? frame_interval_s_ : 0.0; }
 
  private:
+  // The earliest time the body may reach `to` when it leaves `from` at t_s.
+  double earliest_arrival(double t_s, const geometry::Pose& from, const geometry::Pose& to) const;
+
   TrackingPolicy policy_;
+  double max_speed_m_s_, max_rate_rad_s_;
   dynamics::KinematicTrajectory trajectory_;
   double frame_interval_s_;
   double last_capture_s_ = -1;

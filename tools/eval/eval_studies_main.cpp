@@ -154,12 +154,12 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"tracking-map", "loss-flip", "model-size"}));
   app.add_option("--out", out, "directory for the CSV")->capture_default_str();
   app.add_option("--scene", scene_path, "the bunny-box-table scene")->capture_default_str();
-  app.add_flag("--quick", quick, "one seed per cell, shorter settling (fits the --quick evaluation)");
+  app.add_flag("--quick", quick, "two seeds per cell (else five), shorter settling (fits the --quick evaluation)");
   CLI11_PARSE(app, argc, argv);
   try {
     std::filesystem::create_directories(out);
     const config::SceneConfig scene = config::load_scene(scene_path);
-    if (study == "tracking-map") return tracking_map(scene, out, quick ? 1 : 3);
+    if (study == "tracking-map") return tracking_map(scene, out, quick ? 2 : 5);
     if (study == "loss-flip") return loss_flip(scene, out);
     return model_size(scene, out, config::default_config_dir() + "/models", quick ? 1.5 : 2.5);
   } catch (const std::exception& e) {
