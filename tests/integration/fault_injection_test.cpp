@@ -14,52 +14,27 @@
 
 #include "arphys/process_status_t.hpp"
 #include "arphys/world_state_t.hpp"
-#include "lcmtypes/msg/bus.hpp"
-#include "tests/support/world_watch.hpp"
+#include "tests/support/launch_watch.hpp"
 
 namespace {
 
 const std::string kUrl = "udpm://239.255.76.67:7664?ttl=0";
 
 TEST(FaultInjection, PipelineSurvivesHostileTrafficAndCountsIt) {
-  {
-    lcm::LCM probe(kUrl);
-    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
-  }
-  arphys::msg::Bus bus(kUrl);
-  std::map<std::string, arphys::process_status_t> last;
-  arphys::testing::WorldWatch world;
-  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m,
-                                                               const lcm::ReceiveBuffer&, const std::string&) {
-    last[m.name] = m;
-  });
-  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m,
-                                                                 const lcm::ReceiveBuffer&,
-                                                                 const std::string&) { world.on_world_state(m); });
-  const std::string out = ::testing::TempDir() + "fault_injection_test";
-  std::filesystem::remove_all(out);
-  int launch_status = -1;
-  std::thread launcher([&] {
-    launch_status = std::system((std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
-                                 "/tools/arphys-launch " + ARPHYS_SOURCE_DIR +
-                                 "/configs/scenes/bunny_box_table.yaml --duration 9 --lcm-url " + kUrl + " --out " + out +
-                                 " > " + out + ".log 2>&1")
-                                    .c_str());
-  });
-  auto pump = [&](double seconds) {
-    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
-    while (std::chrono::steady_clock::now() < end) bus.handle_timeout_ms(10);
-  };
-  pump(2.5);
+  if (!arphys::testing::multicast_works(kUrl)) GTEST_SKIP() << "no multicast route (ip route add 224.0.0.0/4 dev lo)";
+  arphys::testing::LaunchWatch run(kUrl);
+  run.start(9, "", ::testing::TempDir() + "fault_injection_test");
+  run.pump_for(2.5);
   std::thread fault([&] {
     std::system((std::string(ARPHYS_BINARY_DIR) + "/tools/fault_inject/arphys-fault --lcm-url " + kUrl +
-                 " --duration 4 > " + out + "_fault.log 2>&1")
+                 " --duration 4 > " + run.out + "_fault.log 2>&1")
                     .c_str());
   });
-  pump(10.0);
+  run.pump_for(10.0);
   fault.join();
-  launcher.join();
-  EXPECT_TRUE(WIFEXITED(launch_status) && WEXITSTATUS(launch_status) == 0) << "a process died: see " << out << ".log";
+  EXPECT_TRUE(run.wait()) << "a process died: see " << run.out << ".log";
+  const auto& world = run.world;
+  auto& last = run.last;
   EXPECT_GT(world.states, 300);
   EXPECT_EQ(world.non_finite, 0);
   // Bunnies are thrown at 0.3 m/s and pushed at 0.5 m/s: 5 m/s would be a launch.

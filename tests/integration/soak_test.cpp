@@ -13,50 +13,31 @@
 
 #include <nlohmann/json.hpp>
 
-#include "arphys/world_state_t.hpp"
-#include "lcmtypes/msg/bus.hpp"
-#include "tests/support/world_watch.hpp"
+#include "tests/support/launch_watch.hpp"
 
 namespace {
 
 const std::string kUrl = "udpm://239.255.76.67:7661?ttl=0";
 
 TEST(Soak, FiveMinutesOfFaultsLeaveMemoryFlat) {
-  {
-    lcm::LCM probe(kUrl);
-    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
-  }
+  if (!arphys::testing::multicast_works(kUrl)) GTEST_SKIP() << "no multicast route (ip route add 224.0.0.0/4 dev lo)";
   const double duration_s = std::getenv("ARPHYS_SOAK_S") ? std::atof(std::getenv("ARPHYS_SOAK_S")) : 300.0;
-  arphys::msg::Bus bus(kUrl);
-  arphys::testing::WorldWatch world;
-  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m,
-                                                                 const lcm::ReceiveBuffer&,
-                                                                 const std::string&) { world.on_world_state(m); });
-  const std::string out = ::testing::TempDir() + "soak_test";
-  std::filesystem::remove_all(out);
-  int status = -1;
-  std::thread launcher([&] {
-    status = std::system((std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
-                          "/tools/arphys-launch " + ARPHYS_SOURCE_DIR + "/configs/scenes/bunny_box_table.yaml --duration " +
-                          std::to_string(duration_s) + " --receive-loss 0.2 --lcm-url " + kUrl + " --out " + out + " > " +
-                          out + ".log 2>&1")
-                             .c_str());
-  });
+  arphys::testing::LaunchWatch run(kUrl);
+  run.start(duration_s, "--receive-loss 0.2", ::testing::TempDir() + "soak_test");
   std::thread fault([&] {
     std::this_thread::sleep_for(std::chrono::seconds(3));
     std::system((std::string(ARPHYS_BINARY_DIR) + "/tools/fault_inject/arphys-fault --lcm-url " + kUrl +
-                 " --duration " + std::to_string(duration_s - 5) + " > " + out + "_fault.log 2>&1")
+                 " --duration " + std::to_string(duration_s - 5) + " > " + run.out + "_fault.log 2>&1")
                     .c_str());
   });
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration_s + 4);
-  while (std::chrono::steady_clock::now() < end) bus.handle_timeout_ms(10);
+  run.pump_for(duration_s + 4);
   fault.join();
-  launcher.join();
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "a process died: see " << out << ".log";
+  ASSERT_TRUE(run.wait()) << "a process died: see " << run.out << ".log";
+  const auto& world = run.world;
   EXPECT_EQ(world.non_finite, 0);
   EXPECT_LT(world.fastest_m_s, 5.0) << world.fastest_body << " at " << world.fastest_at_s << " s";
   nlohmann::json report;
-  std::ifstream(out + "/latency.json") >> report;
+  std::ifstream(run.out + "/latency.json") >> report;
   for (const std::string name : {"tracker", "simulator", "renderer"}) {
     const auto& m = report["memory"][name];
     ASSERT_TRUE(m.contains("growth_mb")) << name;
