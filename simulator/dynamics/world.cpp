@@ -258,7 +258,7 @@ std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& res
   }
   std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
   for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].is_dynamic()) radius[k++] = bodies_[i].bounding_radius_m();
+    if (bodies_[i].is_dynamic()) radius[k++] = radius_m_[i];  // cached at add_body: a mesh's is a pass over its vertices
   }
   const auto point_speed = [&](const BodyVelocity& v, std::size_t k) { return v.v_WC_m_s.norm() + v.w_W_rad_s.norm() * radius[k]; };
   for (std::size_t k = 0; k < u.size(); ++k) {
