@@ -9,21 +9,12 @@ namespace {
 
 constexpr double kWaterDensity_kg_m3 = 1000.0;
 
-// Meshes are shared by every body and instance that uses them. A dynamic body's mesh
-// is a solid: its holes are capped, as for its mass properties (an open mesh is
-// two-sided, and a bunny resting on the holes in its base found no resting contact on
-// them: it sank into the table and fell through). Static and kinematic meshes stay as
-// they are: a cup's mouth is an opening, not a hole.
-std::shared_ptr<const collision::CollisionMesh> cached_mesh(const std::string& path, const Eigen::Vector3d& scale,
-                                                            bool solid) {
-  static std::map<std::tuple<std::string, double, double, double, bool>, std::shared_ptr<const collision::CollisionMesh>> cache;
-  const auto key = std::make_tuple(path, scale.x(), scale.y(), scale.z(), solid);
+// Meshes are shared by every body and instance that uses them.
+std::shared_ptr<const collision::CollisionMesh> cached_mesh(const std::string& path, const Eigen::Vector3d& scale) {
+  static std::map<std::pair<std::string, std::tuple<double, double, double>>, std::shared_ptr<const collision::CollisionMesh>> cache;
+  const auto key = std::make_pair(path, std::make_tuple(scale.x(), scale.y(), scale.z()));
   auto& slot = cache[key];
-  if (!slot) {
-    geometry::TriangleMesh mesh = geometry::load_mesh(path, scale);
-    if (solid) geometry::cap_boundary_loops(mesh);
-    slot = std::make_shared<const collision::CollisionMesh>(std::move(mesh));
-  }
+  if (!slot) slot = collision::CollisionMesh::load(path, scale);
   return slot;
 }
 
@@ -38,12 +29,12 @@ BodyMotion motion_of(config::Motion motion) {
 
 }  // namespace
 
-collision::Shape shape_of(const config::ShapeConfig& shape, bool solid) {
+collision::Shape shape_of(const config::ShapeConfig& shape) {
   switch (shape.type) {
     case config::ShapeType::kPlane: return collision::Shape::plane();
     case config::ShapeType::kBox: return collision::Shape::box(shape.size_m);
     case config::ShapeType::kSphere: return collision::Shape::sphere(shape.radius_m);
-    case config::ShapeType::kMesh: return collision::Shape::mesh(cached_mesh(shape.mesh_path, shape.scale, solid));
+    case config::ShapeType::kMesh: return collision::Shape::mesh(cached_mesh(shape.mesh_path, shape.scale));
   }
   return collision::Shape::plane();
 }
@@ -95,7 +86,7 @@ RigidBody make_instance(const config::ObjectConfig& object, const std::string& i
   body.model = object.id;
   body.real = object.role == config::Role::kReal;
   body.motion = BodyMotion::kDynamic;
-  body.shape = shape_of(object.collision, /*solid=*/true);
+  body.shape = shape_of(object.collision);
   body.mass = mass_properties_of(object);
   body.restitution = object.restitution;
   body.friction = object.friction;
@@ -125,7 +116,7 @@ World build_world(const config::SceneConfig& scene) {
     body.model = object.id;
     body.real = object.role == config::Role::kReal;
     body.motion = motion_of(object.motion);
-    body.shape = shape_of(object.collision, object.motion == config::Motion::kDynamic);
+    body.shape = shape_of(object.collision);
     body.restitution = object.restitution;
     body.friction = object.friction;
     body.X_WB = object.X_WO;

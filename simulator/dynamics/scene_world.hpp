@@ -16,9 +16,8 @@ namespace arphys::dynamics {
 // object for a plane or an open mesh that cannot be closed.
 geometry::MassProperties mass_properties_of(const config::ObjectConfig& object);
 
-// The collision shape of an object (meshes loaded with their scale). solid: the shape
-// of a dynamic body, whose mesh holes are capped (contacts need its outside).
-collision::Shape shape_of(const config::ShapeConfig& shape, bool solid);
+// The collision shape of an object (meshes loaded with their scale).
+collision::Shape shape_of(const config::ShapeConfig& shape);
 
 // World options from the scene's physics section.
 WorldOptions world_options_of(const config::SceneConfig& scene);

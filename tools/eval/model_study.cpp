@@ -70,7 +70,7 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     X.translation() = Eigen::Vector3d(-0.35 + 0.3 * i, 0.2, 0.16);
     dynamics::RigidBody body =
         dynamics::make_instance(*bunny, "bunny#" + std::to_string(i), X, {0.05 * (i - 1), 0, 0}, {0, 0, 1.0 * i});
-    body.shape = dynamics::shape_of(collision, /*solid=*/true);
+    body.shape = dynamics::shape_of(collision);
     world.add_body(std::move(body));
   }
   ModelOutcome out;

@@ -40,6 +40,29 @@ TEST(DiscreteQuery, ManifoldOfACubeRestingOnACubeCoversTheContactFace) {
   EXPECT_TRUE(contact_manifold(base, geometry::Pose::Identity(), cube, geometry::translation_pose({0, 0, 0.21}), 1e-3).empty());
 }
 
+// An open surface (a scanned mesh with holes) resting on a solid: its vertices over the
+// solid's face are contacts. They were all dropped (an open vertex has no outward
+// direction, and the "does the face oppose it" test read 0 >= 0 as "no"), so a bunny
+// resting on the holes in its base sank into the table.
+TEST(DiscreteQuery, OpenSurfaceVerticesRestingOnASolidAreContacts) {
+  const CollisionMesh base(geometry::make_box_mesh({1, 1, 0.2}));
+  geometry::TriangleMesh sheet;  // a square of two triangles: open, 0.5 mm above the base's top face
+  sheet.vertices_m = {{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {0.1, 0.1, 0}, {-0.1, 0.1, 0}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const CollisionMesh open(sheet);
+  ASSERT_FALSE(open.closed());
+  for (const bool base_first : {true, false}) {
+    const auto points = base_first
+                            ? contact_manifold(base, geometry::Pose::Identity(), open, geometry::translation_pose({0, 0, 0.1005}), 1e-3)
+                            : contact_manifold(open, geometry::translation_pose({0, 0, 0.1005}), base, geometry::Pose::Identity(), 1e-3);
+    ASSERT_EQ(points.size(), 4u) << "base first: " << base_first;  // the four corners
+    for (const auto& p : points) {
+      EXPECT_NEAR(p.distance_m, 5e-4, 1e-12);
+      EXPECT_NEAR(std::abs(p.normal_W.z()), 1.0, 1e-9);
+    }
+  }
+}
+
 TEST(DiscreteQuery, ManifoldOfStackedBoxesGivesCornersAndEdgeCrossings) {
   const CollisionMesh cube(geometry::make_box_mesh({0.2, 0.2, 0.2}));
   // Same size, aligned, 1 um apart: the four coinciding corners, once each per body side.
