@@ -236,7 +236,6 @@ int main(int argc, char** argv) {
 
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start, last_checkpoint = start;
-  arphys::world_state_t newest;
   int64_t published = 0, steps_since_status = 0;
   double stage_ms_since_status = 0;
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
@@ -256,16 +255,17 @@ int main(int argc, char** argv) {
       arphys::world_state_t ws = world_state(*core, step_start, step_end);
       ws.publish_utime = msg::now_utime();
       bus->publish(scene.channels.world_state, ws);
-      if (!state_file.empty()) newest = std::move(ws);
       ++published;
+      // Checked after every step: a simulator that runs behind steps for seconds in this
+      // loop, and a kill then must not lose all of them.
+      if (!state_file.empty() && std::chrono::steady_clock::now() - last_checkpoint >= std::chrono::milliseconds(200)) {
+        write_checkpoint(state_file, ws);
+        last_checkpoint = std::chrono::steady_clock::now();
+      }
       ++steps_since_status;
       stage_ms_since_status += 1e-3 * static_cast<double>(step_end - step_start);
     }
     const auto now = std::chrono::steady_clock::now();
-    if (!state_file.empty() && published > 0 && now - last_checkpoint >= std::chrono::milliseconds(200)) {
-      write_checkpoint(state_file, newest);
-      last_checkpoint = now;
-    }
     if (now - last_status >= std::chrono::seconds(1)) {
       const double window_s = std::chrono::duration<double>(now - last_status).count();
       arphys::process_status_t status =

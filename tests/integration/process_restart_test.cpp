@@ -40,15 +40,19 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   std::vector<double> world_times, render_times;  // seconds since the test started
   // Virtual bodies (id -> position) in each world state, to compare across the restart.
   std::vector<std::map<std::string, Eigen::Vector3d>> world_bodies;
+  std::vector<double> sim_times;  // a restarted simulator's clock starts again from 0
+  std::map<std::string, double> first_seen;  // body id -> test time
   const auto t0 = std::chrono::steady_clock::now();
   auto now_s = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
                                                                  const std::string&) {
     world_times.push_back(now_s());
+    sim_times.push_back(m.sim_time_s);
     std::map<std::string, Eigen::Vector3d> bodies;
     for (const auto& b : m.bodies) {
       if (b.role == arphys::body_state_t::ROLE_VIRTUAL && b.motion == arphys::body_state_t::MOTION_DYNAMIC) {
         bodies[b.body_id] = Eigen::Vector3d(b.X_WB.position_m[0], b.X_WB.position_m[1], b.X_WB.position_m[2]);
+        first_seen.emplace(b.body_id, world_times.back());
       }
     }
     world_bodies.push_back(bodies);
@@ -90,29 +94,35 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   EXPECT_GT(std::filesystem::file_size(out + "/run.lcmlog"), 100'000u);
   EXPECT_GT(std::filesystem::file_size(out + "/run.1.lcmlog"), 100'000u);
   EXPECT_TRUE(std::filesystem::exists(out + "/overlay.1.avi"));
-  // The simulator's restart is the longest pause of the world states after 6 s; the
-  // bunnies before it come back after it, where they were (the state file is at most
-  // 0.2 s old, and a bunny on the table moves under 0.5 m/s; one falling off the table
+  // The simulator's restart is where its clock goes back (it starts from 0); the bunnies
+  // before it come back after it, where they were (the state file is at most 0.2 s of
+  // wall time old, and a bunny on the table moves under 0.5 m/s; one falling off the table
   // moves faster and may have left the world).
   std::size_t gap_end = 0;
-  double widest = 0;
-  for (std::size_t i = 1; i < world_times.size(); ++i) {
-    if (world_times[i - 1] > 6.0 && world_times[i] - world_times[i - 1] > widest) {
-      widest = world_times[i] - world_times[i - 1];
-      gap_end = i;
-    }
+  for (std::size_t i = 1; i < world_times.size() && gap_end == 0; ++i) {
+    if (world_times[i - 1] > 5.0 && sim_times[i] < sim_times[i - 1]) gap_end = i;  // killed at 6 s
   }
   ASSERT_GT(gap_end, 0u);
+  ASSERT_GT(gap_end, 1u);
   const auto& before = world_bodies[gap_end - 1];
+  const auto& earlier = world_bodies[gap_end - 2];
+  const double step_s = sim_times[gap_end - 1] - sim_times[gap_end - 2];
   const auto& after_restart = world_bodies[gap_end];
   EXPECT_GE(before.size(), 4u);  // the scene's bunny and those spawned by then
   int on_table = 0;
   for (const auto& [id, p] : before) {
     if (p.z() < -0.05) continue;  // falling off the table
+    // Spawned after the last state file was written: lost with the process (and said so).
+    if (first_seen.at(id) > world_times[gap_end - 1] - 0.4) continue;
     ++on_table;
     ASSERT_EQ(after_restart.count(id), 1u) << id << " was not resumed";
-    EXPECT_LT((after_restart.at(id) - p).norm(), 0.15) << id << " before " << p.transpose() << " after "
-                                                       << after_restart.at(id).transpose();
+    // Where it was when the state file was written: at most about 0.3 s earlier (0.2 s
+    // between writes, and the kill) at the speed it had then; a bunny just thrown in
+    // falls at up to 2 m/s.
+    const double speed = earlier.count(id) && step_s > 0 ? (p - earlier.at(id)).norm() / step_s : 0.0;
+    EXPECT_LT((after_restart.at(id) - p).norm(), 0.05 + 0.3 * speed + 0.05) << id << " before " << p.transpose()
+                                                                             << " after " << after_restart.at(id).transpose()
+                                                                             << " at " << speed << " m/s";
   }
   std::ifstream simulator_log(out + "/simulator.1.log");
   const std::string log_text((std::istreambuf_iterator<char>(simulator_log)), std::istreambuf_iterator<char>());
@@ -122,7 +132,9 @@ TEST(ProcessRestart, KilledProcessesComeBackAndTheRunGoesOn) {
   const auto after = [](const std::vector<double>& times, double t) {
     return std::count_if(times.begin(), times.end(), [t](double x) { return x > t; });
   };
-  EXPECT_GT(after(world_times, 10.5), 100);  // 50 steps per second
+  // World states keep coming (a dead simulator sends none). Not 50 a second: with the
+  // box pushing the resumed bunnies the simulator runs behind real time (docs/pipeline.md).
+  EXPECT_GT(after(world_times, 10.5), 25);
   EXPECT_GT(after(render_times, 10.5), 30);  // 30 frames per second
   EXPECT_GT(report["frames"]["rendered"].get<int>(), report["frames"]["captured"].get<int>() / 2);
   // The gaps each restart left (printed for docs/ROBUSTNESS.md).
