@@ -5,6 +5,7 @@
 // makes the tracked box move over a longer screw motion, not teleport.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include <nlohmann/json.hpp>
@@ -33,7 +34,8 @@ TEST(PacketLoss, PipelineRunsThroughTwentyPercentLoss) {
     const double lost = figure(run.last[name], "injected_losses");
     const double offered = lost + static_cast<double>(run.last[name].received);
     ASSERT_GT(offered, 100) << name;
-    EXPECT_NEAR(lost / offered, 0.2, 0.05) << name;
+    // Binomial: four standard deviations of the lost fraction for this many messages.
+    EXPECT_NEAR(lost / offered, 0.2, 4 * std::sqrt(0.2 * 0.8 / offered)) << name << ": " << lost << " of " << offered;
   }
   EXPECT_EQ(run.world.non_finite, 0);
   EXPECT_GT(run.world.states, 300);  // 50 per second
