@@ -47,18 +47,11 @@ double number_from_environment(const char* name, double fallback, double min, do
   return value;
 }
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 }  // namespace
 
 Bus::Bus(const std::string& url) : url_(with_receive_buffer(url)), lcm_(std::make_unique<lcm::LCM>(url_)) {
-  receive_loss_ = number_from_environment("ARPHYS_FAULT_RECEIVE_LOSS", 0.0, 0.0, 0.99);
-  loss_state_ = static_cast<std::uint64_t>(number_from_environment("ARPHYS_FAULT_SEED", getpid(), 0, 1e15));
+  receive_loss_ = std::bernoulli_distribution(number_from_environment("ARPHYS_FAULT_RECEIVE_LOSS", 0.0, 0.0, 0.99));
+  loss_rng_.seed(static_cast<std::uint64_t>(number_from_environment("ARPHYS_FAULT_SEED", getpid(), 0, 1e15)));
   warn_if_kernel_caps_the_buffer(url_);
   if (!lcm_->good()) {
     throw std::runtime_error(
@@ -90,8 +83,7 @@ void Bus::count_decode_error(const std::string& channel, uint32_t size) {
 }
 
 void Bus::DispatcherBase::on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
-  if (bus->receive_loss_ > 0 &&
-      static_cast<double>(splitmix64(bus->loss_state_) >> 11) * 0x1.0p-53 < bus->receive_loss_) {
+  if (bus->receive_loss_.p() > 0 && bus->receive_loss_(bus->loss_rng_)) {
     ++bus->counters_.injected_losses;
     return;
   }

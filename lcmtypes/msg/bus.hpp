@@ -2,12 +2,21 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
 namespace arphys::msg {
+
+// A message in its LCM encoding (what goes on the wire, or into a state file).
+template <class Message>
+std::vector<uint8_t> encode(const Message& message) {
+  std::vector<uint8_t> bytes(static_cast<std::size_t>(message.getEncodedSize()));
+  message.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  return bytes;
+}
 
 // What a process received, per bus: exported in its status heartbeat.
 struct MessageCounters {
@@ -95,8 +104,8 @@ class Bus {
   std::unique_ptr<lcm::LCM> lcm_;
   MessageCounters counters_;
   std::vector<std::unique_ptr<DispatcherBase>> dispatchers_;
-  double receive_loss_ = 0;       // fraction of received messages dropped on purpose
-  std::uint64_t loss_state_ = 0;  // splitmix64 state of the loss draws
+  std::bernoulli_distribution receive_loss_{0.0};  // drops a received message with this probability
+  std::mt19937_64 loss_rng_;
 };
 
 }  // namespace arphys::msg

@@ -125,8 +125,7 @@ arphys::world_state_t world_state(const sim::SimulatorCore& core, int64_t step_s
 // The checkpoint is the last world state, in its LCM encoding, replaced atomically (write
 // then rename) so a process killed mid-write leaves the previous one whole.
 void write_checkpoint(const std::string& path, const arphys::world_state_t& ws) {
-  std::vector<uint8_t> bytes(static_cast<std::size_t>(ws.getEncodedSize()));
-  ws.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  const std::vector<uint8_t> bytes = msg::encode(ws);
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
@@ -275,7 +274,7 @@ int main(int argc, char** argv) {
       status.stage_duration_ms = steps_since_status ? stage_ms_since_status / steps_since_status : 0.0;
       status.published = published;
       status.rejected += core->rejected_total();
-      msg::add_figure(status, "bodies_left_world", static_cast<double>(core->left_world().size()));
+      msg::add_figure(status, "bodies_left_world", static_cast<double>(core->bodies_left_world()));
       if (!state_file.empty()) {
         msg::add_figure(status, "resumed_bodies", recovery.recovered);
         msg::add_figure(status, "bodies_not_resumed", static_cast<double>(recovery.lost.size()));

@@ -38,6 +38,12 @@ struct RigidBody {
   Eigen::Vector3d velocity_of_point(const Eigen::Vector3d& p_W) const { return v_WC_m_s + w_W_rad_s.cross(p_W - com_W()); }
   // Velocity of the body frame's origin (what the CSV reports).
   Eigen::Vector3d origin_velocity() const { return velocity_of_point(X_WB.translation()); }
+  // Sets the state from the origin's velocity and the angular velocity (scene files,
+  // spawn commands and world states give the origin's; the state keeps the centre's).
+  void set_origin_velocity(const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_rad_s) {
+    w_W_rad_s = w_rad_s;
+    v_WC_m_s = v_WO_m_s + w_rad_s.cross(com_W() - X_WB.translation());
+  }
   Eigen::Matrix3d inertia_W() const {
     const Eigen::Matrix3d R = X_WB.linear();
     return R * mass.inertia_about_com_kg_m2 * R.transpose();

@@ -91,9 +91,7 @@ RigidBody make_instance(const config::ObjectConfig& object, const std::string& i
   body.restitution = object.restitution;
   body.friction = object.friction;
   body.X_WB = X_WB;
-  body.w_W_rad_s = w_W_rad_s;
-  // The scene gives the origin's velocity; the state keeps the centre of mass's.
-  body.v_WC_m_s = v_WO_m_s + w_W_rad_s.cross(body.com_W() - X_WB.translation());
+  body.set_origin_velocity(v_WO_m_s, w_W_rad_s);
   return body;
 }
 

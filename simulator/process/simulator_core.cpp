@@ -210,8 +210,7 @@ RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) 
         continue;
       }
       body.X_WB = saved.X_WB;
-      body.w_W_rad_s = saved.w_WB_rad_s;
-      body.v_WC_m_s = saved.v_WB_m_s + saved.w_WB_rad_s.cross(body.com_W() - saved.X_WB.translation());
+      body.set_origin_velocity(saved.v_WB_m_s, saved.w_WB_rad_s);
       ++report.recovered;
       continue;
     }
@@ -269,7 +268,8 @@ int SimulatorCore::advance_to(double t_s) {
     for (int i = static_cast<int>(world_.bodies().size()) - 1; i >= 0; --i) {
       const auto& body = world_.bodies()[i];
       if (!body.real && body.is_dynamic() && !(body.X_WB.translation().norm() <= options_.world_radius_m)) {
-        left_world_.push_back(body.id);
+        ++bodies_left_world_;
+        last_body_left_world_ = body.id;
         world_.remove_body(i);
       }
     }

@@ -110,8 +110,10 @@ class SimulatorCore {
   const std::map<std::string, int64_t>& rejections() const { return rejections_; }
   int64_t rejected_total() const;
   std::string last_rejection() const { return last_rejection_; }
-  // Virtual bodies removed because they left the world (world_radius_m), oldest first.
-  const std::vector<std::string>& left_world() const { return left_world_; }
+  // Virtual bodies removed because they left the world (world_radius_m): how many, and
+  // the last one's id (a count, not a list: a long run must not grow it).
+  int64_t bodies_left_world() const { return bodies_left_world_; }
+  const std::string& last_body_left_world() const { return last_body_left_world_; }
   // Objects whose track is lost or stale.
   std::vector<std::string> lost_objects() const;
   double added_latency_s(const std::string& object_id) const;
@@ -138,7 +140,8 @@ class SimulatorCore {
   std::vector<ProxyContact> proxy_contacts_;
   std::map<std::string, int64_t> rejections_;
   std::string last_rejection_;
-  std::vector<std::string> left_world_;
+  int64_t bodies_left_world_ = 0;
+  std::string last_body_left_world_;
 };
 
 }  // namespace arphys::sim

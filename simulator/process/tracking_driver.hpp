@@ -7,10 +7,11 @@
 //                  arrives it blends to it over half a frame, then extrapolates again:
 //                  no added latency, small corrections.
 // A lost track, or no pose for longer than the stale timeout, holds the body still.
-// Both policies move the body no faster than a hand moves a real object
-// (max_speed_m_s, max_rate_rad_s): a track re-acquired further on, or a pose that flipped
-// to the other solution of a single marker, is reached over as long as that speed needs
-// instead of in one frame, so it does not strike virtual bodies at many m/s.
+// A track re-acquired further on (either policy), and every new pose under kDelay (a
+// pose that flipped to the other solution of a single marker), is reached no faster than
+// a hand moves a real object (max_speed_m_s, max_rate_rad_s) instead of in one frame, so
+// the body does not strike virtual bodies at many m/s. kExtrapolate follows the measured
+// twist as it is.
 #include <cstdint>
 #include <string>
 

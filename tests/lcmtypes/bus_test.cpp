@@ -12,13 +12,6 @@
 namespace arphys::msg {
 namespace {
 
-template <class Message>
-std::vector<uint8_t> encode(const Message& message) {
-  std::vector<uint8_t> bytes(message.getEncodedSize());
-  message.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
-}
-
 void put_int32_be(std::vector<uint8_t>& bytes, std::size_t at, int32_t value) {
   for (int i = 0; i < 4; ++i) bytes[at + i] = static_cast<uint8_t>((uint32_t(value) >> (24 - 8 * i)) & 0xff);
 }

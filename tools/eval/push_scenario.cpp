@@ -40,17 +40,17 @@ Eigen::Matrix3d small_rotation(std::mt19937& rng, double sigma_rad) {
 
 PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s) {
   config::SceneConfig scene = scene_in;
-  const config::ObjectConfig* bunny_object = nullptr;
   for (auto& o : scene.objects) {
     o.spawn_at_start.clear();
     if (o.id == "box") o.X_WO = geometry::translation_pose(box_position(0, s.push_speed_m_s));
   }
-  bunny_object = scene.find_object("bunny");
+  const config::ObjectConfig* bunny_object = scene.find_object("bunny");
   if (!bunny_object || !scene.find_object("box")) throw std::invalid_argument("push scenario: the scene needs 'box' and 'bunny'");
   dynamics::World world = dynamics::build_world(scene);
-  const int box = world.find("box");
-  // A virtual object without spawns starts as one body at its pose: placed here instead.
+  // A virtual object without spawns starts as one body at its pose: placed below instead
+  // (removed before any index is taken: removal shifts the ones after it).
   if (world.find("bunny") >= 0) world.remove_body(world.find("bunny"));
+  const int box = world.find("box");
 
   // The bunny upright (z-up), its lowest point 2 mm above the table, its back 5 cm ahead
   // of the box's front face.

@@ -28,11 +28,18 @@ namespace {
 
 using namespace arphys;
 
-template <class Message>
-std::vector<uint8_t> encode(const Message& m) {
-  std::vector<uint8_t> bytes(m.getEncodedSize());
-  m.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
-  return bytes;
+arphys::image_t gray_image(int64_t utime, int64_t seq, int width, int height, uint8_t value) {
+  arphys::image_t image{};
+  image.utime = utime;
+  image.seq = seq;
+  image.camera_id = "fault";
+  image.width = width;
+  image.height = height;
+  image.row_stride = width;
+  image.pixel_format = arphys::image_t::PIXEL_FORMAT_GRAY8;
+  image.data.assign(static_cast<std::size_t>(width) * height, value);
+  image.size = static_cast<int32_t>(image.data.size());
+  return image;
 }
 
 arphys::object_poses_t poses(int64_t utime, int64_t seq, const std::string& object, const double p[3], const double q[4]) {
@@ -106,21 +113,12 @@ int main(int argc, char** argv) {
       for (auto& b : junk) b = static_cast<uint8_t>(byte(rng));
       raw(channel, junk, "random bytes");
     }
-    std::vector<uint8_t> truncated = encode(poses(now, 1000000 + round, "box", box, unit));
+    std::vector<uint8_t> truncated = msg::encode(poses(now, 1000000 + round, "box", box, unit));
     truncated.resize(truncated.size() / 2);
     raw(ch.object_poses, truncated, "truncated poses");
 
     // Images: wrong size, undecodable JPEG, unknown format.
-    arphys::image_t image{};
-    image.utime = now;
-    image.seq = round;
-    image.camera_id = "fault";
-    image.width = 320;
-    image.height = 240;
-    image.row_stride = 320;
-    image.pixel_format = arphys::image_t::PIXEL_FORMAT_GRAY8;
-    image.data.assign(320 * 240, 90);
-    image.size = static_cast<int32_t>(image.data.size());
+    arphys::image_t image = gray_image(now, round, 320, 240, 90);
     bus->publish(ch.camera_image, image);
     ++sent["image of the wrong size"];
     image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
@@ -168,15 +166,7 @@ int main(int argc, char** argv) {
 
     // A burst: ten valid-size frames at once (ten times a camera's rate).
     if (round % 10 == 0) {
-      arphys::image_t frame{};
-      frame.utime = now;
-      frame.camera_id = "fault";
-      frame.width = 640;
-      frame.height = 480;
-      frame.row_stride = 640;
-      frame.pixel_format = arphys::image_t::PIXEL_FORMAT_GRAY8;
-      frame.data.assign(640 * 480, 128);
-      frame.size = static_cast<int32_t>(frame.data.size());
+      arphys::image_t frame = gray_image(now, 0, 640, 480, 128);
       for (int k = 0; k < 10; ++k) {
         frame.seq = 5000000 + round * 10 + k;
         bus->publish(ch.camera_image, frame);

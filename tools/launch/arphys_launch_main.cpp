@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "arphys/ground_truth_t.hpp"
 #include "arphys/image_t.hpp"
 #include "arphys/marker_detections_t.hpp"
 #include "arphys/object_poses_t.hpp"
@@ -31,13 +32,12 @@
 #include "arphys/render_status_t.hpp"
 #include "arphys/sim_command_t.hpp"
 #include "arphys/world_state_t.hpp"
+#include "configs/loader/camera_config.hpp"
 #include "configs/loader/camera_script.hpp"
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
-#include "arphys/ground_truth_t.hpp"
-#include "configs/loader/camera_config.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 #include "tools/launch/latency_report.hpp"
 #include "tools/launch/registration_report.hpp"
@@ -430,7 +430,7 @@ int main(int argc, char** argv) {
                    p.last_mb - p.baseline_mb, p.last_uptime_s - p.baseline_uptime_s);
     }
   }
-  if (!state_file.empty() && out_dir.empty()) std::filesystem::remove(state_file);
+  if (out_dir.empty()) std::filesystem::remove(state_file);  // a temporary one
   if (!died.empty()) {
     std::fprintf(stderr, "arphys-launch: %s died unexpectedly%s\n", died.c_str(),
                  out_dir.empty() ? "" : (" (see " + log_of(died) + ")").c_str());
