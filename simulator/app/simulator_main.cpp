@@ -153,7 +153,10 @@ void resume_from(const std::string& path, sim::SimulatorCore& core, sim::Recover
   }
   std::vector<sim::RecoveredBody> bodies;
   for (const auto& b : saved.bodies) {
-    if (b.role != arphys::body_state_t::ROLE_VIRTUAL || b.motion != arphys::body_state_t::MOTION_DYNAMIC) continue;
+    // Virtual bodies, and tracked real ones (so tracking moves them on from where they were).
+    const bool virtual_dynamic = b.role == arphys::body_state_t::ROLE_VIRTUAL && b.motion == arphys::body_state_t::MOTION_DYNAMIC;
+    const bool tracked = b.role == arphys::body_state_t::ROLE_REAL && b.motion == arphys::body_state_t::MOTION_KINEMATIC;
+    if (!virtual_dynamic && !tracked) continue;
     sim::RecoveredBody body;
     body.body_id = b.body_id;
     body.model = b.model;

@@ -197,11 +197,23 @@ RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) 
   RecoveryReport report;
   for (const RecoveredBody& saved : bodies) {
     const config::ObjectConfig* object = scene_.find_object(saved.model);
-    if (!object || object->role != config::Role::kVirtual || object->motion != config::Motion::kDynamic) {
-      // Real bodies come back from tracking; static ones from the scene.
-      if (!object) report.lost.push_back(saved.body_id + ": model '" + saved.model + "' is not in the scene");
+    if (!object) {
+      report.lost.push_back(saved.body_id + ": model '" + saved.model + "' is not in the scene");
       continue;
     }
+    if (object->role == config::Role::kReal && object->motion == config::Motion::kKinematic) {
+      // A tracked body goes back where it was: the first tracked pose after the restart
+      // then moves it on by a screw motion. Left at its scene pose, it jumped to the
+      // tracked pose into the bunnies it had been pushing and shoved them 0.2-0.3 m.
+      const int index = world_.find(saved.body_id);
+      const auto driver = drivers_.find(saved.body_id);
+      if (index >= 0 && driver != drivers_.end() && saved.X_WB.matrix().allFinite()) {
+        world_.body(index).X_WB = saved.X_WB;
+        driver->second.hold_at(world_.time_s(), saved.X_WB);
+      }
+      continue;
+    }
+    if (object->role != config::Role::kVirtual || object->motion != config::Motion::kDynamic) continue;  // static: the scene's
     const int index = world_.find(saved.body_id);
     if (index >= 0) {  // a body the scene starts with: continue it where it was
       dynamics::RigidBody& body = world_.body(index);

@@ -86,8 +86,8 @@ class SimulatorCore {
   // Puts back the virtual dynamic bodies a previous run of the process left (after a
   // crash or restart): bodies the scene starts with continue from the saved state;
   // spawned ones are spawned again under their ids, within the same limits as a spawn
-  // command. What cannot come back is listed with the reason. Real bodies are skipped:
-  // tracking brings them back.
+  // command. What cannot come back is listed with the reason. Tracked real bodies are put
+  // back where they were (tracking moves them on from there); static ones are the scene's.
   RecoveryReport recover(const std::vector<RecoveredBody>& bodies);
 
   // Steps the world (fixed time step) up to simulation time t_s. Returns the steps taken.

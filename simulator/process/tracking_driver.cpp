@@ -71,6 +71,12 @@ void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, dou
   lost_ = false;
 }
 
+void TrackingDriver::hold_at(double t_s, const geometry::Pose& X_WO) {
+  trajectory_ = dynamics::KinematicTrajectory();
+  trajectory_.add(t_s, X_WO);
+  lost_ = true;
+}
+
 void TrackingDriver::on_lost(double now_s) {
   if (lost_) return;
   trajectory_.hold_from(now_s);

@@ -33,6 +33,10 @@ class TrackingDriver {
   void on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s);
   // The object is not seen any more (status LOST, or stale): hold it where it is.
   void on_lost(double now_s);
+  // Holds the body at X_WO from t_s until a pose arrives, which it then reaches as a
+  // re-acquired track (within the speed limits) instead of appearing there: a restarted
+  // simulator knows where the body was.
+  void hold_at(double t_s, const geometry::Pose& X_WO);
 
   const dynamics::KinematicTrajectory& trajectory() const { return trajectory_; }
   bool has_pose() const { return !trajectory_.empty(); }

@@ -185,6 +185,25 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
 
 // A bunny thrown past the table falls out of the world: it is removed (so it no longer
 // holds an instance) and listed, instead of falling forever.
+// The tracked box goes back where it was, and the first tracked pose after the restart
+// moves it on within the tracking speed limit: left at its scene pose it jumped to the
+// tracked pose, into the bunnies it had been pushing.
+TEST(SimulatorCore, RestartPutsTheTrackedBoxBackAndMovesItOnSmoothly) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  SimulatorCore core(scene, {});
+  const Eigen::Vector3d saved_at(-0.2, 0.1, 0.0755);
+  RecoveredBody box{"box", "box", geometry::translation_pose(saved_at)};
+  core.recover({box});
+  const int index = core.world().find("box");
+  EXPECT_LT((core.world().bodies()[index].X_WB.translation() - saved_at).norm(), 1e-12);
+  core.on_tracking(frame(kStart, 1, "box", saved_at + Eigen::Vector3d(0.15, 0, 0)));
+  const Eigen::Vector3d before = core.world().bodies()[index].X_WB.translation();
+  core.advance_to(core.time_step_s());
+  const double moved_m = (core.world().bodies()[index].X_WB.translation() - before).norm();
+  EXPECT_GT(moved_m, 0.0);
+  EXPECT_LE(moved_m, 1.5 * core.time_step_s() + 1e-9);  // the tracking driver's 1.5 m/s
+}
+
 TEST(SimulatorCore, BodyLeavingTheWorldIsRemovedAndListed) {
   SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
   SpawnRequest spawn;
