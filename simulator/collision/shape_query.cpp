@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "simulator/collision/box_box_manifold.hpp"
 #include "simulator/collision/feature_toi.hpp"
 #include "simulator/collision/screw_enclosure.hpp"
 #include "simulator/collision/triangle_distance.hpp"
@@ -260,6 +261,8 @@ std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose
       return {{on_sphere - height * n, on_sphere, n, height, {-1, -1}}};
     }
     case Shape::Type::kBox:
+      if (B.type() == Shape::Type::kBox) return box_box_manifold(A.size_m(), X_WA, B.size_m(), X_WB, tolerance_m);
+      [[fallthrough]];
     case Shape::Type::kMesh:
       return B.type() == Shape::Type::kSphere
                  ? mesh_sphere_manifold(*A.triangles(), X_WA, B.radius_m(), X_WB, tolerance_m)
