@@ -19,7 +19,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "simulator/dynamics/scene_world.hpp"
 #include "tools/dyn_bench/engine.hpp"
-#include "tracker/pose/pose_filter.hpp"
+#include "tracker/pose/constant_velocity_filter.hpp"
 
 namespace arphys::dyn_bench {
 
@@ -126,9 +126,10 @@ void run_stack(const std::vector<std::string>& engines, double duration, const s
 
 void run_push(const std::vector<std::string>& engines, Csv& csv) {
   std::printf("\n== push: 30 Hz tracked pusher, one frame late, 0.5 m/s for 3 s, floor friction 0.5\n"
-              "%-18s %6s %8s %10s %11s %10s\n", "engine", "dt_ms", "noise_mm", "peak/0.5", "overlap_mm", "ms/step");
-  // Noise variants: none, 1 mm, and 1 mm through the tracker's one-euro pose filter
-  // (tracker --filter one_euro), the same filtered poses for every engine.
+              "%-18s %6s %8s %10s %8s %11s %10s\n", "engine", "dt_ms", "noise_mm", "peak/0.5", "at_s", "overlap_mm",
+              "ms/step");
+  // Noise variants: none, 1 mm, and 1 mm through the tracker's constant-velocity pose
+  // filter (tracker --filter constant_velocity), the same filtered poses for every engine.
   struct Variant {
     double sigma;
     bool filtered;
@@ -141,7 +142,7 @@ void run_push(const std::vector<std::string>& engines, Csv& csv) {
         std::mt19937 rng(777);
         std::normal_distribution<double> noise(0, 1);
         std::vector<Eigen::Vector3d> P;
-        arphys::tracking::OneEuroPoseFilter filter;
+        arphys::tracking::ConstantVelocityPoseFilter filter;
         for (int k = 0; k * (1.0 / 30) <= 4.1; ++k) {
           const double t = k / 30.0;
           P.emplace_back(0.5 * std::min(t, 3.0) + (k ? sigma * noise(rng) : 0.0), k ? sigma * noise(rng) : 0.0, 0.102);
@@ -155,7 +156,7 @@ void run_push(const std::vector<std::string>& engines, Csv& csv) {
         scene.bodies.push_back(box_at({0.3, 0, 0.1}, 0.5));
         auto engine = make_engine(e);
         engine->build(scene, dt);
-        double peak = 0, overlap = 0;
+        double peak = 0, peak_t = 0, overlap = 0;
         const long steps = std::lround(4.0 / dt);
         const auto start = Clock::now();
         for (long s = 0; s < steps; ++s) {
@@ -166,14 +167,17 @@ void run_push(const std::vector<std::string>& engines, Csv& csv) {
           X.translation() = P[k - 1] + (t - k / 30.0) * v;  // mode L: one frame late, linear
           engine->set_kinematic(1, X, v);
           engine->step();
-          peak = std::max(peak, engine->velocity(2).norm());
+          if (engine->velocity(2).norm() > peak) {
+            peak = engine->velocity(2).norm();
+            peak_t = (s + 1) * dt;
+          }
           overlap = std::max(overlap, engine->pose(1).translation().x() + 0.2 - engine->pose(2).translation().x());
         }
         const double ms = 1e3 * std::chrono::duration<double>(Clock::now() - start).count() / steps;
-        std::printf("%-18s %6.0f %8.0f%s %10.3f %11.3f %10.4f\n", e.c_str(), dt * 1e3, sigma * 1e3,
-                    variant.filtered ? "f" : " ", peak / 0.5, 1e3 * overlap, ms);
+        std::printf("%-18s %6.0f %8.0f%s %10.3f %8.3f %11.3f %10.4f\n", e.c_str(), dt * 1e3, sigma * 1e3,
+                    variant.filtered ? "f" : " ", peak / 0.5, peak_t, 1e3 * overlap, ms);
         csv.out << e << "," << dt << "," << sigma << "," << peak / 0.5 << "," << 1e3 * overlap << "," << ms << ","
-                << variant.filtered << "\n";
+                << variant.filtered << "," << peak_t << "\n";
         std::fflush(stdout);
       }
 }
@@ -295,7 +299,7 @@ int main(int argc, char** argv) {
       Csv csv(out + "/dyn_stack.csv", "engine,n,dt_s,toppled,topple_t_s,top_drift_mm,max_tilt_deg,ms_per_step,simulated_s");
       run_stack(engines, stack_seconds > 0 ? stack_seconds : (quick ? 2.0 : 60.0), stack_dts, csv);
     } else if (scene == "push") {
-      Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step,filtered");
+      Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step,filtered,peak_t_s");
       run_push(engines, csv);
     } else if (scene == "drop") {
       Csv csv(out + "/dyn_drop.csv", "engine,n,mu,median_ms_per_step,max_penetration_mm,final_penetration_mm,simulated_s");

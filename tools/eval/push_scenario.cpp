@@ -8,7 +8,7 @@
 
 #include "simulator/dynamics/scene_world.hpp"
 #include "simulator/process/tracking_driver.hpp"
-#include "tracker/pose/pose_filter.hpp"
+#include "tracker/pose/constant_velocity_filter.hpp"
 
 namespace arphys::eval {
 
@@ -67,7 +67,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
   std::mt19937 rng(s.seed);
   std::normal_distribution<double> noise(0, 1);
   sim::TrackingDriver driver(sim::TrackingPolicy::kDelay, 1.0 / s.frame_rate_hz);
-  tracking::OneEuroPoseFilter filter;
+  tracking::ConstantVelocityPoseFilter filter;
   const double dt = scene.time_step_s;
   const double frame_interval = 1.0 / s.frame_rate_hz;
   double next_frame = 0;

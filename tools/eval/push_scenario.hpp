@@ -5,7 +5,7 @@
 // simulator sees it only through frames at frame_rate_hz with Gaussian pose noise, lost
 // frames and pose flips, and drives it one of three ways:
 //   kScrew:          arphys (TrackingDriver, delay policy): screw motion between poses;
-//   kScrewFiltered:  the same, after the tracker's one-euro pose filter;
+//   kScrewFiltered:  the same, after the tracker's constant-velocity pose filter;
 //   kTeleport:       what a naive coupling does: the body jumps to each pose, velocity 0
 //                    (no consistency step: overlap is left to depenetration).
 // The outcome is what the bunny did: peak speed against the pusher's, deepest overlap,

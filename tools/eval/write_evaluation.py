@@ -153,7 +153,7 @@ def main():
                                       f"{num(odeq[0]['max_penetration_mm']):.3f} mm).")
     push = rows(os.path.join(d, "dyn", "dyn_push.csv"))
     w("A 30 Hz tracked box pushing a box at 0.5 m/s (peak pushed speed over the pusher's; target <= 1.15):\n")
-    w("The filtered rows pass the noisy poses through the tracker's one-euro filter first (the same poses for every engine).\n")
+    w("The filtered rows pass the noisy poses through the tracker's constant-velocity filter first (the same poses for every engine).\n")
     w(table(["engine", "dt s", "noise m", "filtered", "peak ratio", "max overlap mm", "ms/step"],
             [[r["engine"], r["dt_s"], r["noise_m"], "yes" if r.get("filtered") == "1" else "no",
               f"{num(r['peak_speed_ratio']):.3f}", f"{num(r['max_overlap_mm']):.3f}",
@@ -216,7 +216,7 @@ def main():
     w(img("eval_tracking_map.png") + "\n")
     w("A tracked box pushes a virtual bunny across the table at 0.25 m/s (`arphys-eval-studies tracking-map`). The "
       "simulator sees the box only through frames at 5-60 Hz with Gaussian pose noise; it drives it along the screw "
-      "motion between poses (ours), the same after the tracker's one-euro filter, or by teleporting it to each pose "
+      "motion between poses (ours), the same after the tracker's constant-velocity filter, or by teleporting it to each pose "
       "(a naive coupling, no consistency step). Cells: the bunny's peak speed over the box's; above 3x is a failure "
       f"(the bunny is thrown). CSV: {link('eval_tracking_map.csv')} (also deepest overlap and hop height).\n")
     fails = defaultdict(int)

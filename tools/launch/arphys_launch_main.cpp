@@ -154,6 +154,7 @@ int main(int argc, char** argv) {
                "started together, watched, measured and stopped together."};
   std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
+  std::string tracker_filter = "constant_velocity";
   double duration_s = 20, spawn_every_s = 1.0;
   bool record = false, restart = false;
   double receive_loss = 0;
@@ -164,6 +165,11 @@ int main(int argc, char** argv) {
   app.add_option("--script", script_path, "camera script for --camera synthetic (default: the scene's, "
                                           "configs/synthetic/box_push.yaml or spoon_approach.yaml)");
   app.add_option("--tracker", tracker_impl, "tracker implementation")->check(CLI::IsMember({"apriltag", "aruco"}))
+      ->capture_default_str();
+  app.add_option("--tracker-filter", tracker_filter,
+                 "the tracker's pose filter (tracker --filter): constant_velocity keeps a noisy tracked box from "
+                 "pushing faster than it moves")
+      ->check(CLI::IsMember({"none", "one_euro", "constant_velocity"}))
       ->capture_default_str();
   app.add_option("--duration", duration_s, "seconds to run")->capture_default_str();
   app.add_option("--out", out_dir, "write overlay.avi, latency.json, process logs (and run.lcmlog) here");
@@ -296,7 +302,7 @@ int main(int argc, char** argv) {
   }
   if (wanted("tracker")) {
     std::vector<std::string> args{b + "/tracker/app/tracker", "--scene", scene.file, "--lcm-url", url, "--impl", tracker_impl,
-                                  "--duration", seconds};
+                                  "--filter", tracker_filter, "--duration", seconds};
     if (camera != "synthetic") args.insert(args.end(), {"--source", camera, "--publish-images", "--pace"});
     start_child("tracker", args);
   }

@@ -77,7 +77,9 @@ int main(int argc, char** argv) {
   app.add_option("--camera-fps", camera_fps, "V4L2: requested frame rate");
   app.add_option("--predict-s", predict_s, "an object not seen is PREDICTED for this long, then LOST, seconds")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--filter", filter, "pose filter on object poses")->check(CLI::IsMember({"none", "one_euro"}))
+  app.add_option("--filter", filter, "pose filter on object and camera poses: one_euro steadies a still marker, "
+                                     "constant_velocity (a Kalman filter) smooths a moving one for physics")
+      ->check(CLI::IsMember({"none", "one_euro", "constant_velocity"}))
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON line per frame on stdout; exit at the end of a file or folder");
   app.add_flag("--print", print, "print a short line per frame on stdout");
@@ -108,7 +110,7 @@ int main(int argc, char** argv) {
     for (const auto& p : params) spec.params.push_back(split_param(p));
     TrackerOptions options;
     options.predict_s = predict_s;
-    options.filter = filter == "one_euro";
+    options.filter.kind = pose_filter_kind_from(filter);
     pipeline = std::make_unique<TrackerPipeline>(
         make_detector(spec), ObjectTracker(std::move(model), CameraModel::from_config(camera_config), options));
   } catch (const std::exception& e) {

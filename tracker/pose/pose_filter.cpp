@@ -1,6 +1,7 @@
 #include "tracker/pose/pose_filter.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace arphys::tracking {
 
@@ -41,6 +42,30 @@ Pose OneEuroPoseFilter::filter(const Pose& X_measured, double t_s) {
   X_last_ = X;
   t_last_s_ = t_s;
   return X;
+}
+
+const char* to_string(PoseFilterKind kind) {
+  switch (kind) {
+    case PoseFilterKind::kOneEuro: return "one_euro";
+    case PoseFilterKind::kConstantVelocity: return "constant_velocity";
+    case PoseFilterKind::kNone: break;
+  }
+  return "none";
+}
+
+PoseFilterKind pose_filter_kind_from(const std::string& name) {
+  for (PoseFilterKind kind : {PoseFilterKind::kNone, PoseFilterKind::kOneEuro, PoseFilterKind::kConstantVelocity})
+    if (name == to_string(kind)) return kind;
+  throw std::invalid_argument("pose filter '" + name + "': expected none, one_euro or constant_velocity");
+}
+
+Pose PoseFilter::filter(const Pose& X_measured, double t_s) {
+  switch (kind_) {
+    case PoseFilterKind::kOneEuro: return one_euro_.filter(X_measured, t_s);
+    case PoseFilterKind::kConstantVelocity: return constant_velocity_.filter(X_measured, t_s);
+    case PoseFilterKind::kNone: break;
+  }
+  return X_measured;
 }
 
 }  // namespace arphys::tracking

@@ -1,5 +1,8 @@
 #pragma once
+#include <string>
+
 #include "simulator/geometry/pose.hpp"
+#include "tracker/pose/constant_velocity_filter.hpp"
 
 namespace arphys::tracking {
 
@@ -32,6 +35,37 @@ class OneEuroPoseFilter {
   Pose X_last_ = Pose::Identity();
   double position_speed_m_s_ = 0;
   double rotation_speed_rad_s_ = 0;
+};
+
+// The pose filter an object track runs: none, one-euro (steadies a still marker, for
+// the overlay) or constant-velocity (smooths a moving one, for physics; see
+// constant_velocity_filter.hpp).
+enum class PoseFilterKind { kNone, kOneEuro, kConstantVelocity };
+const char* to_string(PoseFilterKind kind);
+// "none" | "one_euro" | "constant_velocity"; throws std::invalid_argument naming the value.
+PoseFilterKind pose_filter_kind_from(const std::string& name);
+
+struct PoseFilterSpec {
+  PoseFilterKind kind = PoseFilterKind::kNone;
+  OneEuroParams one_euro;
+  ConstantVelocityParams constant_velocity;
+};
+
+class PoseFilter {
+ public:
+  PoseFilter() = default;
+  explicit PoseFilter(const PoseFilterSpec& spec)
+      : kind_(spec.kind), one_euro_(spec.one_euro), constant_velocity_(spec.constant_velocity) {}
+  Pose filter(const Pose& X_measured, double t_s);
+  void reset() {
+    one_euro_.reset();
+    constant_velocity_.reset();
+  }
+
+ private:
+  PoseFilterKind kind_ = PoseFilterKind::kNone;
+  OneEuroPoseFilter one_euro_;
+  ConstantVelocityPoseFilter constant_velocity_;
 };
 
 }  // namespace arphys::tracking

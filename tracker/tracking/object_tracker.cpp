@@ -76,20 +76,20 @@ const ObjectModel* TrackerModel::find(const std::string& object_id) const {
 ObjectTracker::ObjectTracker(TrackerModel model, CameraModel camera, TrackerOptions options)
     : model_(std::move(model)), camera_(std::move(camera)), options_(options) {
   for (const auto& o : model_.objects) {
-    tracks_[o.id].filter = OneEuroPoseFilter(options_.filter_params);
+    tracks_[o.id].filter = PoseFilter(options_.filter);
     if (!o.defines_world) continue;
     for (const auto& m : o.markers) world_markers_.push_back({m.family, m.id, m.size_m, o.X_WO * m.X_OM});
   }
-  world_track_.filter = OneEuroPoseFilter(options_.filter_params);
+  world_track_.filter = PoseFilter(options_.filter);
 }
 
 void ObjectTracker::reset() {
   for (auto& [id, track] : tracks_) {
     track = Track{};
-    track.filter = OneEuroPoseFilter(options_.filter_params);
+    track.filter = PoseFilter(options_.filter);
   }
   world_track_ = Track{};
-  world_track_.filter = OneEuroPoseFilter(options_.filter_params);
+  world_track_.filter = PoseFilter(options_.filter);
   loose_markers_.clear();
   loose_seen_utime_.clear();
 }
@@ -247,8 +247,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
   if (!seen_world.empty()) {
     const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, capture_utime);
     if (fit.ok) {
-      Pose X_CW = fit.pose.X_CO;
-      if (options_.filter) X_CW = world_track_.filter.filter(X_CW, capture_utime * 1e-6);
+      const Pose X_CW = world_track_.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
       record(world_track_, X_CW, capture_utime);
     }
   }
@@ -264,8 +263,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     Fit fit;
     if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, track, capture_utime);
     if (fit.ok) {
-      Pose X_CO = fit.pose.X_CO;
-      if (options_.filter) X_CO = track.filter.filter(X_CO, capture_utime * 1e-6);
+      const Pose X_CO = track.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
       record(track, X_CO, capture_utime);
       obs.status = TrackStatus::kTracked;
       obs.X_CO = X_CO;

@@ -94,8 +94,8 @@ struct TrackerOptions {
   double predict_s = 0.1;
   // How long a last pose is trusted as the reference for ambiguity decisions.
   double memory_s = 0.5;
-  bool filter = false;  // one-euro filter on object poses
-  OneEuroParams filter_params;
+  // Filter on object and camera poses (none by default: the raw fit).
+  PoseFilterSpec filter;
 };
 
 // Turns one frame's detected markers into marker and object poses: per-marker IPPE,
@@ -122,7 +122,7 @@ class ObjectTracker {
     // Twist of O in C from the last two measurements (for prediction).
     Eigen::Vector3d v_m_s = Eigen::Vector3d::Zero();
     Eigen::Vector3d w_rad_s = Eigen::Vector3d::Zero();
-    OneEuroPoseFilter filter;
+    PoseFilter filter;
     // A single marker's two pose branches, followed frame to frame, each with its
     // decayed sum of squared corner residuals (px^2).
     bool branches_valid = false;

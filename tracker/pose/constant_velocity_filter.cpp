@@ -1,0 +1,106 @@
+#include "tracker/pose/constant_velocity_filter.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace arphys::tracking {
+
+namespace {
+
+void require_positive(double value, const char* name) {
+  if (!(value > 0) || !std::isfinite(value))
+    throw std::invalid_argument(std::string("ConstantVelocityParams.") + name + " must be positive and finite, got " +
+                                std::to_string(value));
+}
+
+Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Matrix3d rotation_from_vector(const Eigen::Vector3d& r) {
+  const double angle = r.norm();
+  return angle > 0 ? Eigen::AngleAxisd(angle, r / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
+}
+
+// The initial velocity variance: nothing is known about the speed of a new track.
+constexpr double kUnknownSpeedVariance = 1.0;
+
+}  // namespace
+
+ConstantVelocityPoseFilter::ConstantVelocityPoseFilter(const ConstantVelocityParams& params) : params_(params) {
+  require_positive(params.position_noise_m, "position_noise_m");
+  require_positive(params.rotation_noise_rad, "rotation_noise_rad");
+  require_positive(params.acceleration_psd_m2_s3, "acceleration_psd_m2_s3");
+  require_positive(params.angular_acceleration_psd_rad2_s3, "angular_acceleration_psd_rad2_s3");
+  require_positive(params.gate_m, "gate_m");
+  require_positive(params.gate_rad, "gate_rad");
+  require_positive(params.max_gap_s, "max_gap_s");
+}
+
+void ConstantVelocityPoseFilter::AxisCovariance::predict(double dt, double psd) {
+  // P <- F P F^T + Q for F = [1 dt; 0 1], Q = psd [dt^3/3 dt^2/2; dt^2/2 dt].
+  pp += 2 * dt * pv + dt * dt * vv + psd * dt * dt * dt / 3;
+  pv += dt * vv + psd * dt * dt / 2;
+  vv += psd * dt;
+}
+
+Eigen::Vector2d ConstantVelocityPoseFilter::AxisCovariance::update(double r) {
+  const double s = pp + r;
+  const Eigen::Vector2d gain(pp / s, pv / s);
+  // P <- (I - K H) P with H = [1 0].
+  const double pp_new = (1 - gain[0]) * pp;
+  const double pv_new = (1 - gain[0]) * pv;
+  const double vv_new = vv - gain[1] * pv;
+  pp = pp_new;
+  pv = pv_new;
+  vv = vv_new;
+  return gain;
+}
+
+void ConstantVelocityPoseFilter::restart(const geometry::Pose& X, double t_s) {
+  initialised_ = true;
+  t_last_s_ = t_s;
+  p_m_ = X.translation();
+  R_ = X.linear();
+  v_m_s_.setZero();
+  w_rad_s_.setZero();
+  translation_ = {params_.position_noise_m * params_.position_noise_m, 0, kUnknownSpeedVariance};
+  rotation_ = {params_.rotation_noise_rad * params_.rotation_noise_rad, 0, kUnknownSpeedVariance};
+}
+
+geometry::Pose ConstantVelocityPoseFilter::filter(const geometry::Pose& X_measured, double t_s) {
+  const double dt = t_s - t_last_s_;
+  if (!initialised_ || !(dt > 0) || dt > params_.max_gap_s) {
+    restart(X_measured, t_s);
+    return X_measured;
+  }
+  // Predict.
+  const Eigen::Vector3d p_predicted = p_m_ + dt * v_m_s_;
+  const Eigen::Matrix3d R_predicted = rotation_from_vector(dt * w_rad_s_) * R_;
+  const Eigen::Vector3d dp = X_measured.translation() - p_predicted;
+  const Eigen::Vector3d dr = rotation_vector(X_measured.linear() * R_predicted.transpose());
+  if (dp.norm() > params_.gate_m || dr.norm() > params_.gate_rad) {
+    restart(X_measured, t_s);
+    return X_measured;
+  }
+  translation_.predict(dt, params_.acceleration_psd_m2_s3);
+  rotation_.predict(dt, params_.angular_acceleration_psd_rad2_s3);
+  // Update.
+  const Eigen::Vector2d kt = translation_.update(params_.position_noise_m * params_.position_noise_m);
+  const Eigen::Vector2d kr = rotation_.update(params_.rotation_noise_rad * params_.rotation_noise_rad);
+  p_m_ = p_predicted + kt[0] * dp;
+  v_m_s_ += kt[1] * dp;
+  // Renormalised, so that many products of rotations stay a rotation.
+  R_ = Eigen::Quaterniond(rotation_from_vector(kr[0] * dr) * R_predicted).normalized().toRotationMatrix();
+  w_rad_s_ += kr[1] * dr;
+  t_last_s_ = t_s;
+
+  geometry::Pose X = geometry::Pose::Identity();
+  X.translation() = p_m_;
+  X.linear() = R_;
+  return X;
+}
+
+}  // namespace arphys::tracking
