@@ -95,7 +95,15 @@ std::vector<ManifoldPoint> box_box_manifold(const Eigen::Vector3d& size_A_m, con
     for (int j = 0; j < 3; ++j) {
       const Eigen::Vector3d c = A.axes.col(i).cross(B.axes.col(j));
       if (c.norm() < 1e-6) continue;  // parallel edges: the face axes cover them
-      const auto [gap, n] = gap_along(c.normalized());
+      // An edge axis within half a degree of a face axis (two boxes stacked with a
+      // twist: A's x edge and B's y edge cross in the contact plane) measures the same
+      // gap as the face, give or take rounding and tilt, but would reduce a face
+      // contact to the one point where two edges cross: the top box then tips over it.
+      const Eigen::Vector3d axis = c.normalized();
+      if ((A.axes.transpose() * axis).cwiseAbs().maxCoeff() > 0.99996 ||
+          (B.axes.transpose() * axis).cwiseAbs().maxCoeff() > 0.99996)
+        continue;
+      const auto [gap, n] = gap_along(axis);
       if (gap > tolerance_m) return {};
       if (gap > best_edge) {
         best_edge = gap;
