@@ -275,7 +275,9 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     bool frictional = false;
     for (int r : island) frictional |= rows[r].friction > 0;
     FrictionImpulses friction;
-    if (options.kind == ContactSolverKind::kExact) {
+    const bool exact = options.kind == ContactSolverKind::kExact && n <= options.max_exact_rows;
+    if (options.kind == ContactSolverKind::kExact && !exact) ++result.iterative_islands;
+    if (exact) {
       std::vector<JacobianRow> J(n);
       for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
       Eigen::MatrixXd A(n, n);

@@ -40,6 +40,11 @@ enum class ContactSolverKind { kExact, kProjectedGaussSeidel };
 struct ContactSolverOptions {
   ContactSolverKind kind = ContactSolverKind::kExact;
   int iterations = 50;  // projected Gauss-Seidel sweeps (and friction sweeps after an exact solve)
+  // Islands with more contact rows than this are solved iteratively even under kExact
+  // (counted in ContactSolveResult::iterative_islands; their KKT residual is reported):
+  // the dense active-set solve costs about rows^3 per factorisation and a pile of a
+  // thousand boxes leaning on each other (thousands of rows) took minutes for one step.
+  int max_exact_rows = 600;
 };
 
 struct ContactSolveResult {
@@ -51,6 +56,7 @@ struct ContactSolveResult {
   // The constraints contradict each other (a body squeezed between non-dynamic ones):
   // solved again with every push-apart demand dropped, so nothing is launched.
   bool infeasible = false;
+  int iterative_islands = 0;  // islands over max_exact_rows, solved iteratively
 };
 
 // Solves for `velocities` (in: unconstrained u*, out: u+). Independent groups of

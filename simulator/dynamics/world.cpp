@@ -290,6 +290,7 @@ std::vector<BodyVelocity> World::solve(double h, const std::vector<Contact>& res
   }
   report.kkt_residual_m_s = std::max(report.kkt_residual_m_s, result.kkt_residual_m_s);
   report.infeasible |= result.infeasible;
+  report.iterative_islands += result.iterative_islands;
   report.solver_iterations += result.iterations;
   for (std::size_t k = 0; k < contacts_.size(); ++k) contacts_[k].impulse_N_s = result.normal_impulses_N_s[k];
   return u;

@@ -73,6 +73,7 @@ struct StepReport {
   bool events_capped = false;   // the step ended at an impact (time kept, motion dropped)
   int contacts = 0;             // constraints in the last solve of the step
   bool infeasible = false;      // a body squeezed between non-dynamic ones
+  int iterative_islands = 0;    // contact islands too large for the exact solver (max_exact_rows)
   double kkt_residual_m_s = 0;  // worst over the step's solves
   double max_penetration_m = 0; // deepest overlap among the contacts (0: none)
   int solver_iterations = 0;

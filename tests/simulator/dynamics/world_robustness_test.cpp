@@ -79,6 +79,24 @@ TEST(WorldRobustness, RestingBoxesAreSolvedInOneActiveSetIterationEach) {
   EXPECT_NEAR(world.bodies().back().X_WB.translation().z(), 0.1 + 1e-6, 1e-9);
 }
 
+// An island over max_exact_rows goes to the iterative solver, counted; smaller ones stay
+// exact. (A pile of a thousand boxes leaning on each other made one exact solve take
+// minutes.)
+TEST(WorldRobustness, IslandsTooLargeForTheExactSolverAreSolvedIterativelyAndCounted) {
+  WorldOptions options;
+  options.solver.max_exact_rows = 10;
+  World world(options);
+  world.add_body(plane_body());
+  for (int i = 0; i < 3; ++i) world.add_body(cube("stacked" + std::to_string(i), {0, 0, 0.1 + 0.2 * i + 1e-6 * i}));
+  world.add_body(cube("alone", {1, 0, 0.1 + 1e-6}));
+  StepReport report;
+  for (int k = 0; k < 20; ++k) report = world.step(1e-3);
+  EXPECT_EQ(report.contacts, 16);
+  EXPECT_EQ(report.iterative_islands, 1);  // the stack's 12 rows; the lone box's 4 are exact
+  EXPECT_LT(report.kkt_residual_m_s, 1e-3);
+  EXPECT_NEAR(world.bodies()[3].X_WB.translation().z(), 0.5 + 2e-6, 1e-5);
+}
+
 // A tracked box comes down onto a dynamic box lying on a static floor: the box is
 // squeezed. The solve is reported infeasible and the box is neither launched nor NaN.
 TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
