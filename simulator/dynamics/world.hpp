@@ -116,7 +116,9 @@ class World {
   std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
   // Solves the resting and impact contacts for the time h left in the step, from the
   // current velocities; returns the velocities to move with.
-  std::vector<BodyVelocity> solve(double h, const std::vector<Contact>& resting, const ImpactMap& impacts,
+  // force_h: the time over which gravity and the gyroscopic term act in this solve
+  // (the whole step in its first solve, 0 after a cut).
+  std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<Contact>& resting, const ImpactMap& impacts,
                                   StepReport& report);
   // Where the bodies would be after h from now (elapsed into the step) with velocities u.
   std::vector<geometry::Pose> candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const;
