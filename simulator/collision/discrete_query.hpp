@@ -37,7 +37,7 @@ SeparationResult separation(const CollisionMesh& A, const geometry::Pose& X_WA, 
 struct ManifoldPoint {
   Eigen::Vector3d point_A_W, point_B_W;  // closest points, world, metres
   Eigen::Vector3d normal_W;              // unit, from A towards B
-  double distance_m;                     // >= 0; 0 when the triangles intersect
+  double distance_m;                     // along the normal; negative where the bodies overlap
   TrianglePair triangles;
 };
 // The contact features closer than tolerance_m: each vertex over the interior of the
