@@ -1,6 +1,5 @@
 #include "simulator/collision/box_box_manifold.hpp"
 
-#include <array>
 #include <cmath>
 
 #include "simulator/collision/triangle_distance.hpp"
@@ -29,9 +28,9 @@ std::vector<Eigen::Vector3d> clip(const std::vector<Eigen::Vector3d>& polygon, c
 }
 
 // Face contact: `ref`'s face with outward normal n (pointing at `inc`) against inc's most
-// opposed face. Points as (on ref's face plane, on inc, signed distance along n).
-void face_contact(const Box& ref, const Box& inc, const Eigen::Vector3d& n, double tolerance,
-                  std::vector<std::array<Eigen::Vector3d, 2>>* pairs, std::vector<double>* distances) {
+// opposed face, appended as manifold points from A to B (`ref_is_A` says which is which).
+void face_contact(const Box& ref, const Box& inc, const Eigen::Vector3d& n, bool ref_is_A, double tolerance,
+                  std::vector<ManifoldPoint>* points) {
   // Reference face: the axis of ref most aligned with n.
   const Eigen::Vector3d local_n = ref.axes.transpose() * n;
   int r = 0;
@@ -58,8 +57,11 @@ void face_contact(const Box& ref, const Box& inc, const Eigen::Vector3d& n, doub
   for (const Eigen::Vector3d& p : polygon) {
     const double d = face_n.dot(p - face_center);
     if (d > tolerance) continue;
-    pairs->push_back({p - d * face_n, p});
-    distances->push_back(d);
+    const Eigen::Vector3d on_face = p - d * face_n;
+    if (ref_is_A)
+      points->push_back({on_face, p, face_n, d, {-1, -1}});
+    else
+      points->push_back({p, on_face, -face_n, d, {-1, -1}});
   }
 }
 
@@ -136,17 +138,10 @@ std::vector<ManifoldPoint> box_box_manifold(const Eigen::Vector3d& size_A_m, con
       return points;
     }
   }
-  std::vector<std::array<Eigen::Vector3d, 2>> pairs;
-  std::vector<double> distances;
-  if (face_of_A) {
-    face_contact(A, B, face_normal, tolerance_m, &pairs, &distances);
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      points.push_back({pairs[i][0], pairs[i][1], face_normal, distances[i], {-1, -1}});
-  } else {
-    face_contact(B, A, -face_normal, tolerance_m, &pairs, &distances);
-    for (std::size_t i = 0; i < pairs.size(); ++i)
-      points.push_back({pairs[i][1], pairs[i][0], face_normal, distances[i], {-1, -1}});
-  }
+  if (face_of_A)
+    face_contact(A, B, face_normal, true, tolerance_m, &points);
+  else
+    face_contact(B, A, -face_normal, false, tolerance_m, &points);
   return points;
 }
 

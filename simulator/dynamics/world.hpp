@@ -61,10 +61,6 @@ struct WorldOptions {
   }();
 };
 
-// The angular velocity after h_s of torque-free motion, gyroscopic term implicit: the
-// kinetic energy does not grow (the explicit step made spinning bodies speed up).
-Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3d& w_W_rad_s, double h_s);
-
 struct Contact {
   int body_a = -1, body_b = -1;  // indices into World::bodies()
   collision::ManifoldPoint feature;
