@@ -1,10 +1,13 @@
 #include "simulator/collision/shape_query.hpp"
 
+#include "simulator/collision/separation_certificate.hpp"
+
 #include <stdexcept>
 
 #include "simulator/collision/box_box_manifold.hpp"
 #include "simulator/collision/feature_toi.hpp"
 #include "simulator/collision/screw_enclosure.hpp"
+#include "simulator/collision/separation_certificate.hpp"
 #include "simulator/collision/triangle_distance.hpp"
 
 namespace arphys::collision {
@@ -302,6 +305,9 @@ ContinuousResult time_of_impact(const Shape& A, const ScrewMotion& motion_A, con
                                                 : plane_vs_mesh(motion_A, *B.triangles(), motion_B, options);
       break;
     case Shape::Type::kBox:
+      // Resting boxes: most pairs are proven apart without the search.
+      if (B.type() == Shape::Type::kBox && boxes_stay_apart(0.5 * A.size_m(), motion_A, 0.5 * B.size_m(), motion_B)) break;
+      [[fallthrough]];
     case Shape::Type::kMesh:
       result = B.type() == Shape::Type::kSphere
                    ? mesh_vs_sphere(*A.triangles(), motion_A, B.radius_m(), motion_B, options)

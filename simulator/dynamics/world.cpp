@@ -159,8 +159,9 @@ int World::find(const std::string& id) const {
   return -1;
 }
 
-void World::set_kinematic_state(double t_s, double h_s) {
-  for (RigidBody& body : bodies_) {
+void World::set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s) {
+  for (int i : participants) {
+    RigidBody& body = bodies_[i];
     if (body.motion != BodyMotion::kKinematic || body.trajectory.empty()) continue;
     body.X_WB = body.trajectory.pose_at(t_s);
     if (h_s > 0) {
@@ -177,25 +178,21 @@ void World::set_kinematic_state(double t_s, double h_s) {
   }
 }
 
-std::vector<Contact> World::gather_contacts() const {
+std::vector<Contact> World::gather_contacts(const std::vector<int>& participants) const {
   const double tolerance = options_.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
-  boxes.reserve(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
+  boxes.reserve(participants.size());
+  for (int i : participants) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
   std::vector<Contact> contacts;
-  auto add = [&](int i, int j, double reach) {
-    const auto features = reduce_manifold(
-        collision::contact_manifold(bodies_[i].shape, bodies_[i].X_WB, bodies_[j].shape, bodies_[j].X_WB, reach),
-        options_.max_contacts_per_pair);
-    for (const auto& feature : features) contacts.push_back({i, j, feature, 0.0});
-  };
-  for (const auto& [i, j] : collision::overlapping_pairs(boxes)) {
+  for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
+    const int i = participants[p], j = participants[q];
     const RigidBody& a = bodies_[i];
     const RigidBody& b = bodies_[j];
     if (!a.is_dynamic() && !b.is_dynamic()) continue;
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
-    add(i, j, tolerance);
+    const auto features = reduce_manifold(collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance),
+                                          options_.max_contacts_per_pair);
+    for (const auto& feature : features) contacts.push_back({i, j, feature, 0.0});
   }
   return contacts;
 }
@@ -213,25 +210,29 @@ std::vector<Contact> World::impact_contacts(const ImpactMap& impacts) const {
       p.point_B_W = b.X_WB * hit.point_B_B;
       p.normal_W = a.X_WB.linear() * hit.normal_A_B;
       p.distance_m = p.normal_W.dot(p.point_B_W - p.point_A_W);
-      contacts.push_back({pair.first, pair.second, p, 0.0});
+      contacts.push_back({pair.first, pair.second, p, 0.0, hit.min_normal_velocity_m_s});
     }
   }
   return contacts;
 }
 
-std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vector<Contact>& resting, const ImpactMap& impacts,
-                                        StepReport& report) {
-  contacts_ = resting;
+std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vector<int>& participants,
+                                       const std::vector<Contact>& resting, const ImpactMap& impacts,
+                                       std::vector<Contact>& solved, StepReport& report, bool* infeasible) const {
+  solved = resting;
   const std::vector<Contact> meeting = impact_contacts(impacts);
-  contacts_.insert(contacts_.end(), meeting.begin(), meeting.end());
-  // Dynamic bodies are the unknowns, in order.
-  std::vector<int> unknown(bodies_.size(), -1);
+  solved.insert(solved.end(), meeting.begin(), meeting.end());
+  // The participants' dynamic bodies are the unknowns, in order (slot: their place in
+  // `participants`, whose velocities are returned).
+  std::map<int, int> unknown_of;
+  std::vector<int> slot_of_unknown;
   std::vector<BodyInertia> inertia;
   std::vector<BodyVelocity> u;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    const RigidBody& body = bodies_[i];
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = bodies_[participants[s]];
     if (!body.is_dynamic()) continue;
-    unknown[i] = static_cast<int>(u.size());
+    unknown_of[participants[s]] = static_cast<int>(u.size());
+    slot_of_unknown.push_back(static_cast<int>(s));
     BodyInertia in;
     in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
     in.inverse_inertia_W = body.inverse_inertia_W();
@@ -243,15 +244,19 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
     v.w_W_rad_s = gyroscopic_step(body.inertia_W(), body.w_W_rad_s, force_h);
     u.push_back(v);
   }
+  const auto unknown = [&](int body) {
+    const auto it = unknown_of.find(body);
+    return it == unknown_of.end() ? -1 : it->second;
+  };
   std::vector<ContactRow> rows;
-  rows.reserve(contacts_.size());
+  rows.reserve(solved.size());
   double deepest = 0;
-  for (const Contact& c : contacts_) {
+  for (const Contact& c : solved) {
     const RigidBody& a = bodies_[c.body_a];
     const RigidBody& b = bodies_[c.body_b];
     ContactRow row;
-    row.body_a = unknown[c.body_a];
-    row.body_b = unknown[c.body_b];
+    row.body_a = unknown(c.body_a);
+    row.body_b = unknown(c.body_b);
     row.normal_W = c.feature.normal_W;
     row.point_W = 0.5 * (c.feature.point_A_W + c.feature.point_B_W);
     if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
@@ -266,11 +271,11 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
     const double approach = row.normal_W.dot(b.velocity_of_point(row.point_W) - a.velocity_of_point(row.point_W));
     if (approach < -options_.restitution_threshold_m_s && -approach * h >= gap - options_.contact_gap_m)
       row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
+    row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, c.min_normal_velocity_m_s);
     row.friction = combined_friction(a, b);
     rows.push_back(row);
   }
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
-  report.contacts = static_cast<int>(rows.size());
   const std::vector<BodyVelocity> u_unconstrained = u;
   const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver);
   // Launch guard. Contacts are passive: with restitution <= 1 a solve can at most
@@ -286,9 +291,7 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
     if (row.body_a >= 0 && row.body_b >= 0) island[root(row.body_a)] = root(row.body_b);
   }
   std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
-  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
-    if (bodies_[i].is_dynamic()) radius[k++] = radius_m_[i];  // cached at add_body: a mesh's is a pass over its vertices
-  }
+  for (std::size_t k = 0; k < u.size(); ++k) radius[k] = radius_m_[participants[slot_of_unknown[k]]];
   const auto point_speed = [&](const BodyVelocity& v, std::size_t k) { return v.v_WC_m_s.norm() + v.w_W_rad_s.norm() * radius[k]; };
   for (std::size_t k = 0; k < u.size(); ++k) {
     const double speed = point_speed(u_unconstrained[k], k);
@@ -319,44 +322,53 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
   }
   report.kkt_residual_m_s = std::max(report.kkt_residual_m_s, result.kkt_residual_m_s);
   report.infeasible |= result.infeasible;
+  if (infeasible) *infeasible = result.infeasible;
   report.iterative_islands += result.iterative_islands;
   report.solver_iterations += result.iterations;
-  for (std::size_t k = 0; k < contacts_.size(); ++k) contacts_[k].impulse_N_s = result.normal_impulses_N_s[k];
-  return u;
+  for (std::size_t k = 0; k < solved.size(); ++k) solved[k].impulse_N_s = result.normal_impulses_N_s[k];
+  std::vector<BodyVelocity> by_slot(participants.size());
+  for (std::size_t k = 0; k < u.size(); ++k) by_slot[slot_of_unknown[k]] = u[k];
+  return by_slot;
 }
 
-std::vector<geometry::Pose> World::candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const {
-  std::vector<geometry::Pose> next(bodies_.size());
-  for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
-    const RigidBody& body = bodies_[i];
+std::vector<geometry::Pose> World::candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                                                   double elapsed, double h) const {
+  std::vector<geometry::Pose> next(participants.size());
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = bodies_[participants[s]];
     if (body.is_dynamic()) {
-      next[i] = integrate(body, u[k++], h);
+      next[s] = integrate(body, u[s], h);
     } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
-      next[i] = body.trajectory.pose_at(time_s_ + elapsed + h);
+      next[s] = body.trajectory.pose_at(time_s_ + elapsed + h);
     } else {
-      next[i] = body.X_WB;
+      next[s] = body.X_WB;
     }
   }
   return next;
 }
 
-double World::earliest_impact(const std::vector<geometry::Pose>& next, ImpactMap* meeting) const {
+Eigen::AlignedBox3d World::swept_box(int body, const geometry::Pose& next) const {
+  return collision::swept_bounds(geometry::ScrewMotion(bodies_[body].X_WB, next), Eigen::Vector3d::Zero(), radius_m_[body], 4);
+}
+
+double World::earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                              ImpactMap* meeting, ImpactCache* cache, bool* deepening) const {
   std::vector<Eigen::AlignedBox3d> swept;
-  swept.reserve(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i)
-    swept.push_back(collision::swept_bounds(geometry::ScrewMotion(bodies_[i].X_WB, next[i]), Eigen::Vector3d::Zero(),
-                                            radius_m_[i], 4));
+  swept.reserve(participants.size());
+  for (std::size_t s = 0; s < participants.size(); ++s) swept.push_back(swept_box(participants[s], next[s]));
   // How far each body's points can move over the step: its origin's displacement and
   // its rotation angle times its radius about the origin.
-  std::vector<Eigen::Vector3d> shift(bodies_.size());
-  std::vector<double> turn(bodies_.size());
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
-    shift[i] = next[i].translation() - bodies_[i].X_WB.translation();
-    const double angle = Eigen::AngleAxisd(next[i].linear() * bodies_[i].X_WB.linear().transpose()).angle();
-    turn[i] = angle > 0 ? angle * radius_m_[i] : 0.0;
+  std::vector<Eigen::Vector3d> shift(participants.size());
+  std::vector<double> turn(participants.size());
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = bodies_[participants[s]];
+    shift[s] = next[s].translation() - body.X_WB.translation();
+    const double angle = Eigen::AngleAxisd(next[s].linear() * body.X_WB.linear().transpose()).angle();
+    turn[s] = angle > 0 ? angle * radius_m_[participants[s]] : 0.0;
   }
   double earliest = 1.0;
-  for (const auto& [i, j] : collision::overlapping_pairs(swept)) {
+  for (const auto& [p, q] : collision::overlapping_pairs(swept)) {
+    const int i = participants[p], j = participants[q];
     const RigidBody& a = bodies_[i];
     const RigidBody& b = bodies_[j];
     if (!a.is_dynamic() && !b.is_dynamic()) continue;
@@ -365,88 +377,292 @@ double World::earliest_impact(const std::vector<geometry::Pose>& next, ImpactMap
     // the resting gap cannot close it, so the CCD query is skipped (a pile of boxes is
     // almost all such pairs). The price: a pair closer than that may end up to half
     // the gap (0.5 um) inside each other.
-    if ((shift[j] - shift[i]).norm() + turn[i] + turn[j] < 0.5 * options_.contact_gap_m) continue;
-    const auto r = collision::time_of_impact(a.shape, geometry::ScrewMotion(a.X_WB, next[i]), b.shape,
-                                             geometry::ScrewMotion(b.X_WB, next[j]), options_.ccd);
-    // Already overlapping at the start: the contacts (depenetration) deal with it.
+    if ((shift[q] - shift[p]).norm() + turn[p] + turn[q] < 0.5 * options_.contact_gap_m) continue;
+    // A re-solve changes the motions of the island it touches only; every other pair's
+    // motions, and so its answer, are as in the last round.
+    CachedImpact fresh;
+    CachedImpact& query = cache ? (*cache)[{i, j}] : fresh;
+    if (!query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) {
+      const geometry::ScrewMotion motion_a(a.X_WB, next[p]), motion_b(b.X_WB, next[q]);
+      query = {true, next[p], next[q], collision::time_of_impact(a.shape, motion_a, b.shape, motion_b, options_.ccd), {}};
+      const collision::ContinuousResult& r = query.result;
+      if (r.collides && r.features.kind != collision::FeaturePair::kNone && r.features.kind != collision::FeaturePair::kOverlapAtStart) {
+        // The meeting point as material points of both bodies, and A's normal there.
+        const geometry::Pose X_A = motion_a.pose_at(r.time_of_impact);
+        const geometry::Pose X_B = motion_b.pose_at(r.time_of_impact);
+        query.hits = {{X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W}};
+      }
+      if (r.collides && (r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0)) {
+        // Touching or overlapping already: the CCD cannot time a meeting of surfaces
+        // that meet at the start, and the contacts, linearised, let a turning body dig
+        // in (1e-5 m in a pile of 1000 boxes). So the end of the motion is checked:
+        // points deeper than overlap_tolerance_m (and than the pair was at the start)
+        // become constraints of a re-solve, as a CCD meeting would.
+        query.hits.clear();
+        const double start_depth = deepest_overlap(i, a.X_WB, j, b.X_WB);
+        // (A tenth of the tolerance over the start depth keeps a pair that rounding
+        // deepens by nanometres from being cut into ever smaller steps, in which the
+        // depenetration speed can no longer undo anything.)
+        const double allowed = query.allowed_depth_m =
+            std::max(start_depth + 0.1 * options_.overlap_tolerance_m, options_.overlap_tolerance_m);
+        for (const auto& point : collision::contact_manifold(a.shape, next[p], b.shape, next[q], 0.0)) {
+          if (-point.distance_m <= allowed) continue;
+          query.hits.push_back({next[p].inverse() * point.point_A_W, next[q].inverse() * point.point_B_W,
+                                next[p].linear().transpose() * point.normal_W, -point.distance_m});
+        }
+        query.deepens = !query.hits.empty();
+      }
+    }
+    const collision::ContinuousResult& r = query.result;
+    if (query.deepens) {
+      if (deepening) *deepening = true;
+      if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
+      continue;
+    }
     if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0) continue;
     earliest = std::min(earliest, r.time_of_impact);
-    if (meeting && r.features.kind != collision::FeaturePair::kNone) {
-      // The meeting point as material points of both bodies, and A's normal there.
-      const geometry::Pose X_A = geometry::ScrewMotion(a.X_WB, next[i]).pose_at(r.time_of_impact);
-      const geometry::Pose X_B = geometry::ScrewMotion(b.X_WB, next[j]).pose_at(r.time_of_impact);
-      (*meeting)[{i, j}].push_back({X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W});
-    }
+    if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
   }
   return earliest;
 }
 
-StepReport World::step(double dt_s) {
-  if (!(dt_s > 0) || !std::isfinite(dt_s)) throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
-  StepReport report;
+double World::deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const {
+  double deepest = 0;
+  for (const auto& point : collision::contact_manifold(bodies_[a].shape, X_WA, bodies_[b].shape, X_WB, 0.0))
+    deepest = std::max(deepest, -point.distance_m);
+  return deepest;
+}
+
+double World::shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                               const ImpactCache& cache) const {
+  std::map<int, int> slot;
+  for (std::size_t s = 0; s < participants.size(); ++s) slot[participants[s]] = static_cast<int>(s);
+  double fraction = 1.0;
+  for (const auto& [pair, query] : cache) {
+    if (!query.valid || !query.deepens) continue;
+    const int p = slot.at(pair.first), q = slot.at(pair.second);
+    if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
+    const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
+    for (int halving = 0; halving < 6; ++halving) {
+      if (deepest_overlap(pair.first, motion_a.pose_at(fraction), pair.second, motion_b.pose_at(fraction)) <= query.allowed_depth_m) break;
+      fraction *= 0.5;
+    }
+  }
+  return fraction;
+}
+
+World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
+                                         StepReport& report) {
+  GroupOutcome outcome;
+  outcome.swept.assign(participants.size(), Eigen::AlignedBox3d());
   double elapsed = 0;
-  const double end = time_s_ + dt_s;
+  int events = 0;
   while (dt_s - elapsed > 1e-12 * dt_s) {
     double h = dt_s - elapsed;
-    set_kinematic_state(time_s_ + elapsed, h);
+    set_kinematic_state(participants, time_s_ + elapsed, h);
     // Solve, move, and let the CCD say whether anything meets inside the step. Pairs
     // that do join the constraints with every feature they can reach, and the step is
     // solved again: the impact is then a constraint of this step (its bounce a velocity
     // update at the step boundary), and nothing ends up inside anything.
     ImpactMap impacts;
     // The poses do not change while the step is re-solved: the contacts are found once.
-    const std::vector<Contact> resting = gather_contacts();
+    // The step's first solve (all groups at once) is given.
+    const bool at_start = elapsed == 0;
+    const std::vector<Contact> resting = at_start ? first.resting : gather_contacts(participants);
     // Gravity and the gyroscopic term act once per step, over all of it, in its first
     // solve: the velocities are end-of-step velocities (symplectic Euler), and a step cut
     // at a time of impact carries them on. Adding the force again over the time left
     // after each cut gave bodies with many events (two bunnies falling off the table
     // touching and spinning) up to five times the step's gravity: they fell at twice the
     // free-fall speed.
-    const double force_h = elapsed == 0 ? dt_s : 0.0;
-    std::vector<BodyVelocity> u = solve(h, force_h, resting, impacts, report);
-    std::vector<geometry::Pose> next = candidate_poses(u, elapsed, h);
+    const double force_h = at_start ? dt_s : 0.0;
+    std::vector<BodyVelocity> u;
+    bool squeezed = false;
+    if (at_start) {
+      u = first.u;
+      outcome.contacts = first.solved;
+    } else {
+      u = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed);
+    }
+    std::vector<geometry::Pose> next = candidate_poses(participants, u, elapsed, h);
     double tau = 1.0;
+    ImpactCache cache;  // valid while the start poses are these
     for (int round = 0;; ++round) {
       ImpactMap meeting;
-      tau = earliest_impact(next, &meeting);
-      if (tau >= 1.0) break;
+      bool deepening = false;
+      tau = earliest_impact(participants, next, &meeting, &cache, &deepening);
+      // A squeezed body overlaps whatever the solve does: reported, not chased.
+      if (squeezed) deepening = false;
+      if (tau >= 1.0 && !deepening) break;
       ++report.impacts_resolved;
-      if (round == 3) break;
-      for (auto& [pair, hits] : meeting) impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
-      u = solve(h, force_h, resting, impacts, report);
-      next = candidate_poses(u, elapsed, h);
+      if (round == 3) {
+        // Linearised constraints still let a touching pair dig in: stop where it is no
+        // deeper than allowed (halving: the linearisation's error shrinks with the square).
+        if (deepening) tau = std::min(tau, shallow_fraction(participants, next, cache));
+        break;
+      }
+      for (auto& [pair, hits] : meeting) {
+        for (ImpactPoint& hit : hits) {
+          if (hit.end_depth_m < 0) continue;
+          // The point's normal velocity in the motion that let it in, and what lifts it out.
+          const auto velocity = [&](int body, const Eigen::Vector3d& p_W) -> Eigen::Vector3d {
+            const RigidBody& b = bodies_[body];
+            if (!b.is_dynamic()) return b.velocity_of_point(p_W);
+            const std::size_t slot = std::lower_bound(participants.begin(), participants.end(), body) - participants.begin();
+            return u[slot].v_WC_m_s + u[slot].w_W_rad_s.cross(p_W - b.com_W());
+          };
+          const Eigen::Vector3d p_A = bodies_[pair.first].X_WB * hit.point_A_B, p_B = bodies_[pair.second].X_WB * hit.point_B_B;
+          const Eigen::Vector3d n = bodies_[pair.first].X_WB.linear() * hit.normal_A_B;
+          // At the midpoint, as the constraint row measures it (the two material points
+          // can be millimetres apart along the surface at the start of a sliding step).
+          const Eigen::Vector3d m = 0.5 * (p_A + p_B);
+          const double v_n = n.dot(velocity(pair.second, m) - velocity(pair.first, m));
+          hit.min_normal_velocity_m_s = v_n + (hit.end_depth_m + options_.contact_gap_m) / h;
+        }
+        impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
+      }
+      std::vector<BodyVelocity> u_resolved = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed);
+      if (squeezed && tau >= 1.0) break;  // asked only to stop digging in, and it cannot be had: keep the motion
+      u = std::move(u_resolved);
+      next = candidate_poses(participants, u, elapsed, h);
     }
     if (tau < 1.0) {
       // Still meeting (a turning body whose constraints were linearised): stop at the
       // impact, with the velocities of the step, and go on from there.
       h *= tau;
-      if (++report.events >= options_.max_events_per_step) report.events_capped = true;
+      if (++events >= options_.max_events_per_step) outcome.capped = true;
     }
-    for (std::size_t i = 0, k = 0; i < bodies_.size(); ++i) {
-      RigidBody& body = bodies_[i];
-      if (body.is_dynamic()) {
-        const geometry::Pose X = tau >= 1.0 ? next[i] : geometry::ScrewMotion(body.X_WB, next[i]).pose_at(tau);
-        if (X.matrix().allFinite() && u[k].v_WC_m_s.allFinite() && u[k].w_W_rad_s.allFinite()) {
-          body.X_WB = X;
-          body.v_WC_m_s = u[k].v_WC_m_s;
-          body.w_W_rad_s = u[k].w_W_rad_s;
-        } else {
-          // Last line of defence: a numerical failure anywhere in the step (solve, CCD
-          // cut, integration) leaves the body where it was, at rest. Never NaN.
-          body.v_WC_m_s.setZero();
-          body.w_W_rad_s.setZero();
-          ++report.launches_prevented;
-        }
-        ++k;
-      } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
-        body.X_WB = body.trajectory.pose_at(time_s_ + elapsed + h);
+    for (std::size_t s = 0; s < participants.size(); ++s) {
+      RigidBody& body = bodies_[participants[s]];
+      if (!body.is_dynamic()) continue;
+      const geometry::Pose X = tau >= 1.0 ? next[s] : geometry::ScrewMotion(body.X_WB, next[s]).pose_at(tau);
+      if (X.matrix().allFinite() && u[s].v_WC_m_s.allFinite() && u[s].w_W_rad_s.allFinite()) {
+        outcome.swept[s].extend(swept_box(participants[s], X));
+        body.X_WB = X;
+        body.v_WC_m_s = u[s].v_WC_m_s;
+        body.w_W_rad_s = u[s].w_W_rad_s;
+      } else {
+        // Last line of defence: a numerical failure anywhere in the step (solve, CCD
+        // cut, integration) leaves the body where it was, at rest. Never NaN.
+        outcome.swept[s].extend(body.X_WB.translation());
+        body.v_WC_m_s.setZero();
+        body.w_W_rad_s.setZero();
+        ++report.launches_prevented;
       }
     }
     elapsed += h;
-    if (report.events_capped) break;
+    if (outcome.capped) break;
   }
-  time_s_ = end;
-  set_kinematic_state(time_s_, 0.0);
+  report.events = std::max(report.events, events);
+  report.events_capped |= outcome.capped;
+  return outcome;
+}
+
+StepReport World::step(double dt_s) {
+  if (!(dt_s > 0) || !std::isfinite(dt_s)) throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
+  StepReport report;
+  const int n = static_cast<int>(bodies_.size());
+  std::vector<int> everyone(n), fixed;
+  for (int i = 0; i < n; ++i) {
+    everyone[i] = i;
+    if (!bodies_[i].is_dynamic()) fixed.push_back(i);
+  }
+  // The step's first solve, for everything at once.
+  set_kinematic_state(everyone, time_s_, dt_s);
+  const std::vector<Contact> resting = gather_contacts(everyone);
+  std::vector<Contact> solved;
+  const std::vector<BodyVelocity> u0 = solve(dt_s, dt_s, everyone, resting, {}, solved, report);
+  const std::vector<geometry::Pose> next0 = candidate_poses(everyone, u0, 0, dt_s);
+
+  // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the
+  // step; bodies of different groups cannot, so each group is stepped on its own, its
+  // events cutting only its own step and re-running only its own CCD. (Stepping them all
+  // together made every time of impact in a 1000-box pile re-solve and re-sweep all of
+  // it.) A group whose re-solved motion strays into another's sweep is merged with it and
+  // both are stepped again.
+  std::vector<int> parent(n);
+  for (int i = 0; i < n; ++i) parent[i] = i;
+  const std::function<int(int)> root = [&](int i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+  const auto join = [&](int i, int j) {
+    if (bodies_[i].is_dynamic() && bodies_[j].is_dynamic()) parent[std::max(root(i), root(j))] = std::min(root(i), root(j));
+  };
+  for (const Contact& c : resting) join(c.body_a, c.body_b);
+  std::vector<int> dynamic;
+  std::vector<Eigen::AlignedBox3d> swept;
+  for (int i = 0; i < n; ++i) {
+    if (!bodies_[i].is_dynamic()) continue;
+    dynamic.push_back(i);
+    swept.push_back(swept_box(i, next0[i]));
+  }
+  for (const auto& [p, q] : collision::overlapping_pairs(swept)) join(dynamic[p], dynamic[q]);
+
+  struct State {
+    geometry::Pose X_WB;
+    Eigen::Vector3d v, w;
+  };
+  std::vector<State> start(n);
+  for (int i : dynamic) start[i] = {bodies_[i].X_WB, bodies_[i].v_WC_m_s, bodies_[i].w_W_rad_s};
+  std::vector<Eigen::AlignedBox3d> moved(n);             // each dynamic body's swept box over the step
+  std::map<int, std::vector<Contact>> contacts_of_group;  // last solve of each group
+  std::vector<int> pending;                               // group roots to step
+  for (int i : dynamic)
+    if (root(i) == i) pending.push_back(i);
+  while (!pending.empty()) {
+    // Members and first solve of each pending group, in body order.
+    std::map<int, std::vector<int>> members;
+    for (int i : dynamic)
+      if (std::binary_search(pending.begin(), pending.end(), root(i))) members[root(i)].push_back(i);
+    std::map<int, std::vector<int>> contacts_of;
+    for (std::size_t k = 0; k < resting.size(); ++k) {
+      const Contact& c = resting[k];
+      const int g = root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b);
+      if (members.count(g)) contacts_of[g].push_back(static_cast<int>(k));
+    }
+    for (const auto& [g, bodies] : members) {
+      std::vector<int> participants;
+      std::merge(bodies.begin(), bodies.end(), fixed.begin(), fixed.end(), std::back_inserter(participants));
+      FirstSolve f;
+      for (int i : participants) f.u.push_back(u0[i]);
+      for (int k : contacts_of[g]) {
+        f.resting.push_back(resting[k]);
+        f.solved.push_back(solved[k]);
+      }
+      if (contacts_of_group.count(g)) {
+        // Stepped before, merged since: start again from the step's start.
+        for (int i : bodies) {
+          bodies_[i].X_WB = start[i].X_WB;
+          bodies_[i].v_WC_m_s = start[i].v;
+          bodies_[i].w_W_rad_s = start[i].w;
+        }
+      }
+      const GroupOutcome outcome = advance_group(dt_s, participants, f, report);
+      contacts_of_group[g] = outcome.contacts;
+      for (std::size_t s = 0; s < participants.size(); ++s)
+        if (bodies_[participants[s]].is_dynamic()) moved[participants[s]] = outcome.swept[s];
+    }
+    // Did any group's motion reach into another's?
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (int i : dynamic) boxes.push_back(moved[i]);
+    std::set<int> merged;
+    for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
+      const int i = dynamic[p], j = dynamic[q];
+      if (root(i) == root(j)) continue;
+      contacts_of_group.erase(std::max(root(i), root(j)));
+      join(i, j);
+      merged.insert(root(i));
+      contacts_of_group[root(i)];  // marks it as stepped: its bodies restart from the step's start
+    }
+    pending.clear();
+    for (int g : merged)
+      if (root(g) == g) pending.push_back(g);
+    std::sort(pending.begin(), pending.end());
+    pending.erase(std::unique(pending.begin(), pending.end()), pending.end());
+  }
+  contacts_.clear();
+  for (const auto& [g, contacts] : contacts_of_group) contacts_.insert(contacts_.end(), contacts.begin(), contacts.end());
+  report.contacts = static_cast<int>(contacts_.size());
+  time_s_ += dt_s;
+  set_kinematic_state(everyone, time_s_, 0.0);
   return report;
 }
 

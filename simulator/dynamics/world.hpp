@@ -15,6 +15,7 @@
 // Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
 // push dynamic ones through the same contacts. Nothing ever passes through anything:
 // surfaces only meet at a CCD time of impact, where they touch.
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -31,6 +32,10 @@ struct WorldOptions {
   Eigen::Vector3d gravity_m_s2{0, 0, -9.81};
   // Feature pairs closer than this are constraints of the step.
   double contact_tolerance_m = 1e-3;
+  // No pair ends a step deeper inside each other than this, or than it started the
+  // step (a tracked body pushed into a virtual one is undone at
+  // max_depenetration_speed_m_s, not at once).
+  double overlap_tolerance_m = 1e-6;
   // The gap resting contacts keep: surfaces never quite touch at rest, so the CCD of the
   // next step does not see them as impacts (no endless tiny events).
   double contact_gap_m = 1e-6;
@@ -65,6 +70,8 @@ struct Contact {
   int body_a = -1, body_b = -1;  // indices into World::bodies()
   collision::ManifoldPoint feature;
   double impulse_N_s = 0;  // normal impulse of the last solve
+  // A lower bound on the normal velocity beyond what the gap asks (see ImpactPoint).
+  double min_normal_velocity_m_s = -std::numeric_limits<double>::infinity();
 };
 
 struct StepReport {
@@ -84,6 +91,13 @@ struct StepReport {
 // there (body frames), for a constraint of the re-solved step.
 struct ImpactPoint {
   Eigen::Vector3d point_A_B, point_B_B, normal_A_B;
+  // A point where a pair touching at the start ends the step this deep inside (metres;
+  // negative for a CCD meeting), and the normal velocity that lifts it out: the
+  // linearised constraint let it in, so the bound is its velocity in the last solve
+  // plus the depth (and the resting gap) over the step, a Newton step on the true
+  // end-of-step depth.
+  double end_depth_m = -1;
+  double min_normal_velocity_m_s = -std::numeric_limits<double>::infinity();
 };
 using ImpactMap = std::map<std::pair<int, int>, std::vector<ImpactPoint>>;
 
@@ -106,24 +120,66 @@ class World {
   const WorldOptions& options() const { return options_; }
 
  private:
-  // Contacts within contact_tolerance_m at the current poses.
-  std::vector<Contact> gather_contacts() const;
+  // A dynamic body's state moves through a step in its group (see step()); a group's
+  // participants are its dynamic bodies and every non-dynamic body, in body order.
+  // What the step's first solve (all bodies at once) gave a group, by participant.
+  struct FirstSolve {
+    std::vector<BodyVelocity> u;
+    std::vector<Contact> resting, solved;
+  };
+  struct GroupOutcome {
+    std::vector<Contact> contacts;            // of the group's last solve
+    std::vector<Eigen::AlignedBox3d> swept;   // box each participant swept over the step
+    bool capped = false;
+  };
+  // Steps one group through dt_s: CCD, re-solves with the impacts, cuts at times of
+  // impact (at most max_events_per_step).
+  GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first, StepReport& report);
+  // Contacts within contact_tolerance_m at the current poses, among the participants.
+  std::vector<Contact> gather_contacts(const std::vector<int>& participants) const;
   // The meetings the CCD found in the step, as contacts at the current poses.
   std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
   // Solves the resting and impact contacts for the time h left in the step, from the
-  // current velocities; returns the velocities to move with.
+  // current velocities; returns the velocities to move with, by participant, and the
+  // contacts solved (with their impulses) in `solved`; `infeasible`: whether a body
+  // was squeezed (see StepReport::infeasible).
   // force_h: the time over which gravity and the gyroscopic term act in this solve
   // (the whole step in its first solve, 0 after a cut).
-  std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<Contact>& resting, const ImpactMap& impacts,
-                                  StepReport& report);
-  // Where the bodies would be after h from now (elapsed into the step) with velocities u.
-  std::vector<geometry::Pose> candidate_poses(const std::vector<BodyVelocity>& u, double elapsed, double h) const;
-  // Earliest time of impact (fraction of h) of the motions from the current poses to
-  // `next`, or 1.
-  double earliest_impact(const std::vector<geometry::Pose>& next, ImpactMap* meeting) const;
-  // Kinematic bodies to their trajectory pose at t_s, moving as they will over the
-  // next h_s (h_s = 0: their instantaneous twist).
-  void set_kinematic_state(double t_s, double h_s);
+  std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<int>& participants,
+                                  const std::vector<Contact>& resting, const ImpactMap& impacts, std::vector<Contact>& solved,
+                                  StepReport& report, bool* infeasible = nullptr) const;
+  // Where the participants would be after h from now (elapsed into the step) with
+  // velocities u (by participant).
+  std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                                              double elapsed, double h) const;
+  // Box containing a body's bounding ball along its screw motion to `next`.
+  Eigen::AlignedBox3d swept_box(int body, const geometry::Pose& next) const;
+  // A pair's CCD answer for motions from the current poses to next_A, next_B.
+  struct CachedImpact {
+    bool valid = false;
+    geometry::Pose next_A, next_B;
+    collision::ContinuousResult result;
+    std::vector<ImpactPoint> hits;  // the meeting, or the points a touching pair digs in at
+    bool deepens = false;           // touching at the start, deeper than allowed at the end
+    double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
+  };
+  using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
+  // Earliest time of impact (fraction of h) of the participants' motions from their
+  // current poses to `next` (by participant), or 1. `cache` (optional) answers pairs
+  // whose motions it has seen since the poses last changed. `deepening`: set when a
+  // pair touching at the start ends deeper than overlap_tolerance_m (its points are in
+  // `meeting`, with no time of impact).
+  double earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                         ImpactMap* meeting, ImpactCache* cache, bool* deepening) const;
+  // How deep bodies a and b are inside each other at these poses (0: apart).
+  double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
+  // The fraction of the motions to `next` at which no touching pair in `cache` that
+  // deepens is deeper than it may be (halving from 1).
+  double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                          const ImpactCache& cache) const;
+  // Kinematic participants to their trajectory pose at t_s, moving as they will over
+  // the next h_s (h_s = 0: their instantaneous twist).
+  void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);
 
   WorldOptions options_;
   std::vector<RigidBody> bodies_;
