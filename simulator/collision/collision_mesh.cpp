@@ -27,6 +27,20 @@ CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh
     for (const auto& n : ns) sum += n;
     edge_normals_[key] = sum;
   }
+  std::vector<bool> vertex_taken(mesh_.vertices_m.size(), false);
+  std::unordered_set<uint64_t> edge_taken;
+  owned_features_.assign(mesh_.triangles.size(), 0);
+  for (std::size_t i = 0; i < mesh_.triangles.size(); ++i) {
+    const Eigen::Vector3i& t = mesh_.triangles[i];
+    for (int k = 0; k < 3; ++k) {
+      if (!vertex_taken[t[k]]) {
+        vertex_taken[t[k]] = true;
+        owned_features_[i] |= 1u << k;
+      }
+      const uint64_t key = edge_key(t[k], t[(k + 1) % 3]);
+      if (!flat_edges_.count(key) && edge_taken.insert(key).second) owned_features_[i] |= 1u << (3 + k);
+    }
+  }
   closed_ = geometry::mesh_topology(mesh_).closed();
 }
 

@@ -7,6 +7,7 @@
 #include <unordered_map>
 #include <unordered_set>
 #include <string>
+#include <vector>
 
 #include "simulator/collision/obb_tree.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
@@ -43,6 +44,13 @@ class CollisionMesh {
     return it == edge_normals_.end() ? Eigen::Vector3d::Zero() : it->second;
   }
 
+  // The features triangle i stands for in feature-pair tests (bits 0-2: its corner k;
+  // bits 3-5: its edge from corner k to k + 1). Each vertex and each edge belongs to
+  // one triangle, the first that has it, and a flat edge to none: a continuous query
+  // then tests every vertex/face and edge/edge pair once, not once per triangle around
+  // the vertex or beside the edge (six and two times on a closed mesh).
+  uint8_t owned_features(int triangle) const { return owned_features_[triangle]; }
+
   // The three corners of triangle i, body frame.
   void corners(int triangle, Eigen::Vector3d out[3]) const {
     const Eigen::Vector3i& t = mesh_.triangles[triangle];
@@ -59,6 +67,7 @@ class CollisionMesh {
   std::unordered_set<uint64_t> flat_edges_;
   std::unordered_map<uint64_t, Eigen::Vector3d> edge_normals_;
   std::vector<Eigen::Vector3d> vertex_normals_;
+  std::vector<uint8_t> owned_features_;
   bool closed_ = false;
 };
 

@@ -114,7 +114,8 @@ class Search {
     B_.corners(tri_B, b);
     long nodes = 0;
     const FeatureContact contact =
-        triangle_pair_toi(rel_AB_, rel_BA_, a, b, {T.lo, std::min(T.hi, best_)}, options_.time_tolerance, &nodes);
+        triangle_pair_toi(rel_AB_, rel_BA_, a, b, {T.lo, std::min(T.hi, best_)}, options_.time_tolerance, &nodes,
+                          feature_pairs(A_.owned_features(tri_A), B_.owned_features(tri_B)));
     if (contact.time < best_) {
       best_ = contact.time;
       features_ = {contact.kind, tri_A, tri_B, contact.corner_A, contact.corner_B};

@@ -321,10 +321,10 @@ namespace {
 // contact inside it or proves it contact-free, and at the finest level the search
 // resumes d / (closing speed) later, d the triangles' distance (a proven contact-free
 // step, conservative-advancement style).
-FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tolerance, int zoom_levels) {
+FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tolerance, int zoom_levels, uint32_t features) {
   constexpr int kMaxSteps = 16;
   for (int step = 0; step < kMaxSteps; ++step) {
-    const Leaf leaf = search.search(W, kAllPairs, tolerance);
+    const Leaf leaf = search.search(W, features, tolerance);
     if (!leaf.alive) return {};
     // Out of budget: the start of the unresolved node, conservative (possibly early).
     if (search.exhausted()) return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
@@ -333,7 +333,7 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
     if (d <= search.touch_distance())
       return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
     if (zoom_levels > 0) {
-      const FeatureContact inner = resolve(search, leaf.T, tolerance / 1024, zoom_levels - 1);
+      const FeatureContact inner = resolve(search, leaf.T, tolerance / 1024, zoom_levels - 1, features);
       if (inner.time != kNoContact) return inner;
       if (!(leaf.T.hi < W.hi)) return {};
       W.lo = leaf.T.hi;  // the whole leaf is contact-free
@@ -354,12 +354,21 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
 
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
                                  const Eigen::Vector3d b[3], const Interval& window, double time_tolerance,
-                                 long* nodes_used) {
-  if (!(window.lo <= window.hi)) return {};
+                                 long* nodes_used, uint32_t features) {
+  features &= kAllPairs;
+  if (!(window.lo <= window.hi) || features == 0) return {};
   const TrianglePairSearch search(rel_AB, rel_BA, a, b, window);
-  const FeatureContact contact = resolve(search, window, time_tolerance, 1);
+  const FeatureContact contact = resolve(search, window, time_tolerance, 1, features);
   if (nodes_used) *nodes_used = search.nodes();
   return contact;
+}
+
+uint32_t feature_pairs(uint8_t owned_a, uint8_t owned_b) {
+  uint32_t bits = (owned_b & 7u) | (owned_a & 7u) << 3;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if ((owned_a >> (3 + i) & 1) && (owned_b >> (3 + j) & 1)) bits |= 1u << (6 + 3 * i + j);
+  return bits;
 }
 
 }  // namespace arphys::collision

@@ -73,8 +73,15 @@ double first_candidate_time(const Interval& window, double time_tolerance, const
 // nodes_used (optional) receives the number of search nodes the pair took (at most a
 // fixed per-pair budget, beyond which the answer is the start of the unresolved part:
 // never late).
+// features: the feature pairs to test (bits 0-2 corner k of b against a's face, 3-5
+// corner k of a against b's face, 6 + 3 i + j edge i of a against edge j of b; edge i
+// runs from corner i to i + 1), e.g. from feature_pairs() below.
 FeatureContact triangle_pair_toi(const RelativeMotion& rel_AB, const RelativeMotion& rel_BA, const Eigen::Vector3d a[3],
                                  const Eigen::Vector3d b[3], const Interval& window, double time_tolerance,
-                                 long* nodes_used = nullptr);
+                                 long* nodes_used = nullptr, uint32_t features = (1u << 15) - 1);
+
+// The feature pairs of two triangles given the features each stands for
+// (CollisionMesh::owned_features): a's corners against b's face only if a owns them, etc.
+uint32_t feature_pairs(uint8_t owned_a, uint8_t owned_b);
 
 }  // namespace arphys::collision

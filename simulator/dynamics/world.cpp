@@ -440,7 +440,9 @@ double World::shallow_fraction(const std::vector<int>& participants, const std::
   double fraction = 1.0;
   for (const auto& [pair, query] : cache) {
     if (!query.valid || !query.deepens) continue;
-    const int p = slot.at(pair.first), q = slot.at(pair.second);
+    const auto a = slot.find(pair.first), b = slot.find(pair.second);
+    if (a == slot.end() || b == slot.end()) continue;  // another group's pair
+    const int p = a->second, q = b->second;
     if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
     const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
     for (int halving = 0; halving < 6; ++halving) {
@@ -452,7 +454,7 @@ double World::shallow_fraction(const std::vector<int>& participants, const std::
 }
 
 World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
-                                         StepReport& report) {
+                                         ImpactCache& first_ccd, StepReport& report) {
   GroupOutcome outcome;
   outcome.swept.assign(participants.size(), Eigen::AlignedBox3d());
   double elapsed = 0;
@@ -486,7 +488,9 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     }
     std::vector<geometry::Pose> next = candidate_poses(participants, u, elapsed, h);
     double tau = 1.0;
-    ImpactCache cache;  // valid while the start poses are these
+    // Answers valid while the start poses are these: the step's first sweep, then fresh.
+    ImpactCache fresh;
+    ImpactCache& cache = at_start ? first_ccd : fresh;
     for (int round = 0;; ++round) {
       ImpactMap meeting;
       bool deepening = false;
@@ -595,6 +599,16 @@ StepReport World::step(double dt_s) {
     swept.push_back(swept_box(i, next0[i]));
   }
   for (const auto& [p, q] : collision::overlapping_pairs(swept)) join(dynamic[p], dynamic[q]);
+  // The first CCD pass, for everything at once (the same pairs the groups would sweep):
+  // most groups meet nothing and just move; only the others are stepped on their own.
+  ImpactCache first_ccd;
+  earliest_impact(everyone, next0, nullptr, &first_ccd, nullptr);
+  std::set<int> eventful;
+  for (const auto& [pair, query] : first_ccd) {
+    const collision::ContinuousResult& r = query.result;
+    if (query.deepens || (r.collides && r.time_of_impact > 0 && r.features.kind != collision::FeaturePair::kOverlapAtStart))
+      eventful.insert(root(bodies_[pair.first].is_dynamic() ? pair.first : pair.second));
+  }
 
   struct State {
     geometry::Pose X_WB;
@@ -627,7 +641,8 @@ StepReport World::step(double dt_s) {
         f.resting.push_back(resting[k]);
         f.solved.push_back(solved[k]);
       }
-      if (contacts_of_group.count(g)) {
+      const bool restarted = contacts_of_group.count(g) > 0;
+      if (restarted) {
         // Stepped before, merged since: start again from the step's start.
         for (int i : bodies) {
           bodies_[i].X_WB = start[i].X_WB;
@@ -635,7 +650,17 @@ StepReport World::step(double dt_s) {
           bodies_[i].w_W_rad_s = start[i].w;
         }
       }
-      const GroupOutcome outcome = advance_group(dt_s, participants, f, report);
+      if (!restarted && !eventful.count(g)) {
+        for (int i : bodies) {
+          moved[i] = swept_box(i, next0[i]);
+          bodies_[i].X_WB = next0[i];
+          bodies_[i].v_WC_m_s = u0[i].v_WC_m_s;
+          bodies_[i].w_W_rad_s = u0[i].w_W_rad_s;
+        }
+        contacts_of_group[g] = f.solved;
+        continue;
+      }
+      const GroupOutcome outcome = advance_group(dt_s, participants, f, first_ccd, report);
       contacts_of_group[g] = outcome.contacts;
       for (std::size_t s = 0; s < participants.size(); ++s)
         if (bodies_[participants[s]].is_dynamic()) moved[participants[s]] = outcome.swept[s];

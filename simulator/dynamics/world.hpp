@@ -120,6 +120,16 @@ class World {
   const WorldOptions& options() const { return options_; }
 
  private:
+  // A pair's CCD answer for motions from the current poses to next_A, next_B.
+  struct CachedImpact {
+    bool valid = false;
+    geometry::Pose next_A, next_B;
+    collision::ContinuousResult result;
+    std::vector<ImpactPoint> hits;  // the meeting, or the points a touching pair digs in at
+    bool deepens = false;           // touching at the start, deeper than allowed at the end
+    double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
+  };
+  using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
   // A dynamic body's state moves through a step in its group (see step()); a group's
   // participants are its dynamic bodies and every non-dynamic body, in body order.
   // What the step's first solve (all bodies at once) gave a group, by participant.
@@ -133,8 +143,9 @@ class World {
     bool capped = false;
   };
   // Steps one group through dt_s: CCD, re-solves with the impacts, cuts at times of
-  // impact (at most max_events_per_step).
-  GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first, StepReport& report);
+  // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
+  GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
+                             ImpactCache& first_ccd, StepReport& report);
   // Contacts within contact_tolerance_m at the current poses, among the participants.
   std::vector<Contact> gather_contacts(const std::vector<int>& participants) const;
   // The meetings the CCD found in the step, as contacts at the current poses.
@@ -154,16 +165,6 @@ class World {
                                               double elapsed, double h) const;
   // Box containing a body's bounding ball along its screw motion to `next`.
   Eigen::AlignedBox3d swept_box(int body, const geometry::Pose& next) const;
-  // A pair's CCD answer for motions from the current poses to next_A, next_B.
-  struct CachedImpact {
-    bool valid = false;
-    geometry::Pose next_A, next_B;
-    collision::ContinuousResult result;
-    std::vector<ImpactPoint> hits;  // the meeting, or the points a touching pair digs in at
-    bool deepens = false;           // touching at the start, deeper than allowed at the end
-    double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
-  };
-  using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
   // Earliest time of impact (fraction of h) of the participants' motions from their
   // current poses to `next` (by participant), or 1. `cache` (optional) answers pairs
   // whose motions it has seen since the poses last changed. `deepening`: set when a
