@@ -352,10 +352,14 @@ Eigen::AlignedBox3d World::swept_box(int body, const geometry::Pose& next) const
 }
 
 double World::earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                              ImpactMap* meeting, ImpactCache* cache, bool* deepening) const {
-  std::vector<Eigen::AlignedBox3d> swept;
-  swept.reserve(participants.size());
-  for (std::size_t s = 0; s < participants.size(); ++s) swept.push_back(swept_box(participants[s], next[s]));
+                              ImpactMap* meeting, ImpactCache* cache, bool* deepening,
+                              const std::vector<Eigen::AlignedBox3d>* swept_boxes) const {
+  std::vector<Eigen::AlignedBox3d> own;
+  if (!swept_boxes) {
+    own.reserve(participants.size());
+    for (std::size_t s = 0; s < participants.size(); ++s) own.push_back(swept_box(participants[s], next[s]));
+  }
+  const std::vector<Eigen::AlignedBox3d>& swept = swept_boxes ? *swept_boxes : own;
   // How far each body's points can move over the step: its origin's displacement and
   // its rotation angle times its radius about the origin.
   std::vector<Eigen::Vector3d> shift(participants.size());
@@ -591,18 +595,20 @@ StepReport World::step(double dt_s) {
     if (bodies_[i].is_dynamic() && bodies_[j].is_dynamic()) parent[std::max(root(i), root(j))] = std::min(root(i), root(j));
   };
   for (const Contact& c : resting) join(c.body_a, c.body_b);
+  std::vector<Eigen::AlignedBox3d> swept0(n);  // each body's swept box over the first solve's motion
+  for (int i = 0; i < n; ++i) swept0[i] = swept_box(i, next0[i]);
   std::vector<int> dynamic;
-  std::vector<Eigen::AlignedBox3d> swept;
+  std::vector<Eigen::AlignedBox3d> swept_dynamic;
   for (int i = 0; i < n; ++i) {
     if (!bodies_[i].is_dynamic()) continue;
     dynamic.push_back(i);
-    swept.push_back(swept_box(i, next0[i]));
+    swept_dynamic.push_back(swept0[i]);
   }
-  for (const auto& [p, q] : collision::overlapping_pairs(swept)) join(dynamic[p], dynamic[q]);
+  for (const auto& [p, q] : collision::overlapping_pairs(swept_dynamic)) join(dynamic[p], dynamic[q]);
   // The first CCD pass, for everything at once (the same pairs the groups would sweep):
   // most groups meet nothing and just move; only the others are stepped on their own.
   ImpactCache first_ccd;
-  earliest_impact(everyone, next0, nullptr, &first_ccd, nullptr);
+  earliest_impact(everyone, next0, nullptr, &first_ccd, nullptr, &swept0);
   std::set<int> eventful;
   for (const auto& [pair, query] : first_ccd) {
     const collision::ContinuousResult& r = query.result;
@@ -616,75 +622,83 @@ StepReport World::step(double dt_s) {
   };
   std::vector<State> start(n);
   for (int i : dynamic) start[i] = {bodies_[i].X_WB, bodies_[i].v_WC_m_s, bodies_[i].w_W_rad_s};
-  std::vector<Eigen::AlignedBox3d> moved(n);             // each dynamic body's swept box over the step
-  std::map<int, std::vector<Contact>> contacts_of_group;  // last solve of each group
-  std::vector<int> pending;                               // group roots to step
+  std::vector<Eigen::AlignedBox3d> moved(n);        // each dynamic body's swept box over the step
+  std::vector<char> stepped(n, 0);                  // by group root: stepped on its own
+  std::vector<std::vector<Contact>> contacts_of(n);  // by group root: its last solve, when stepped
+  std::vector<int> pending;                          // group roots to step
   for (int i : dynamic)
     if (root(i) == i) pending.push_back(i);
   while (!pending.empty()) {
-    // Members and first solve of each pending group, in body order.
-    std::map<int, std::vector<int>> members;
+    // The pending groups' bodies, group by group, in body order.
+    std::vector<std::pair<int, int>> members;  // (root, body)
     for (int i : dynamic)
-      if (std::binary_search(pending.begin(), pending.end(), root(i))) members[root(i)].push_back(i);
-    std::map<int, std::vector<int>> contacts_of;
+      if (std::binary_search(pending.begin(), pending.end(), root(i))) members.emplace_back(root(i), i);
+    std::sort(members.begin(), members.end());
+    std::vector<std::vector<int>> resting_of(n);  // by root, for the groups stepped on their own
     for (std::size_t k = 0; k < resting.size(); ++k) {
       const Contact& c = resting[k];
       const int g = root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b);
-      if (members.count(g)) contacts_of[g].push_back(static_cast<int>(k));
+      if (stepped[g] || eventful.count(g)) resting_of[g].push_back(static_cast<int>(k));
     }
-    for (const auto& [g, bodies] : members) {
-      std::vector<int> participants;
-      std::merge(bodies.begin(), bodies.end(), fixed.begin(), fixed.end(), std::back_inserter(participants));
-      FirstSolve f;
-      for (int i : participants) f.u.push_back(u0[i]);
-      for (int k : contacts_of[g]) {
-        f.resting.push_back(resting[k]);
-        f.solved.push_back(solved[k]);
-      }
-      const bool restarted = contacts_of_group.count(g) > 0;
-      if (restarted) {
+    for (std::size_t first_member = 0; first_member < members.size();) {
+      const int g = members[first_member].first;
+      std::vector<int> bodies;
+      for (; first_member < members.size() && members[first_member].first == g; ++first_member)
+        bodies.push_back(members[first_member].second);
+      if (stepped[g]) {
         // Stepped before, merged since: start again from the step's start.
         for (int i : bodies) {
           bodies_[i].X_WB = start[i].X_WB;
           bodies_[i].v_WC_m_s = start[i].v;
           bodies_[i].w_W_rad_s = start[i].w;
         }
-      }
-      if (!restarted && !eventful.count(g)) {
+      } else if (!eventful.count(g)) {
         for (int i : bodies) {
-          moved[i] = swept_box(i, next0[i]);
+          moved[i] = swept0[i];
           bodies_[i].X_WB = next0[i];
           bodies_[i].v_WC_m_s = u0[i].v_WC_m_s;
           bodies_[i].w_W_rad_s = u0[i].w_W_rad_s;
         }
-        contacts_of_group[g] = f.solved;
         continue;
       }
-      const GroupOutcome outcome = advance_group(dt_s, participants, f, first_ccd, report);
-      contacts_of_group[g] = outcome.contacts;
+      std::vector<int> participants;
+      std::merge(bodies.begin(), bodies.end(), fixed.begin(), fixed.end(), std::back_inserter(participants));
+      FirstSolve f;
+      for (int i : participants) f.u.push_back(u0[i]);
+      for (int k : resting_of[g]) {
+        f.resting.push_back(resting[k]);
+        f.solved.push_back(solved[k]);
+      }
+      GroupOutcome outcome = advance_group(dt_s, participants, f, first_ccd, report);
+      stepped[g] = 1;
+      contacts_of[g] = std::move(outcome.contacts);
       for (std::size_t s = 0; s < participants.size(); ++s)
         if (bodies_[participants[s]].is_dynamic()) moved[participants[s]] = outcome.swept[s];
     }
     // Did any group's motion reach into another's?
     std::vector<Eigen::AlignedBox3d> boxes;
+    boxes.reserve(dynamic.size());
     for (int i : dynamic) boxes.push_back(moved[i]);
-    std::set<int> merged;
+    pending.clear();
     for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
       const int i = dynamic[p], j = dynamic[q];
       if (root(i) == root(j)) continue;
-      contacts_of_group.erase(std::max(root(i), root(j)));
       join(i, j);
-      merged.insert(root(i));
-      contacts_of_group[root(i)];  // marks it as stepped: its bodies restart from the step's start
+      stepped[root(i)] = 1;  // its bodies restart from the step's start
+      pending.push_back(root(i));
     }
-    pending.clear();
-    for (int g : merged)
-      if (root(g) == g) pending.push_back(g);
+    for (int& g : pending) g = root(g);
     std::sort(pending.begin(), pending.end());
     pending.erase(std::unique(pending.begin(), pending.end()), pending.end());
   }
+  // The contacts of each group's last solve: the first solve's, unless stepped on its own.
   contacts_.clear();
-  for (const auto& [g, contacts] : contacts_of_group) contacts_.insert(contacts_.end(), contacts.begin(), contacts.end());
+  for (std::size_t k = 0; k < resting.size(); ++k) {
+    const Contact& c = resting[k];
+    if (!stepped[root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b)]) contacts_.push_back(solved[k]);
+  }
+  for (int i : dynamic)
+    if (root(i) == i && stepped[i]) contacts_.insert(contacts_.end(), contacts_of[i].begin(), contacts_of[i].end());
   report.contacts = static_cast<int>(contacts_.size());
   time_s_ += dt_s;
   set_kinematic_state(everyone, time_s_, 0.0);

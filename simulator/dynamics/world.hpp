@@ -12,6 +12,14 @@
 //      this step; if the CCD still finds a meeting (linearised constraints of a
 //      turning body), the step stops at that time of impact and continues from it, at
 //      most max_events_per_step times.
+// Steps 1-3 are done for all bodies at once, and the CCD of 4 sweeps every pair once.
+// Then bodies that may meet within the step (in contact, or with overlapping sweeps)
+// form groups; a group where nothing meets just moves, the others go through 4 on their
+// own, so a time of impact cuts only its own group's step. A group whose new motion
+// reaches another group's sweep is merged with it and both are stepped again.
+// A pair touching at the start of a step (which the CCD cannot time) is checked at the
+// end of its motion instead: if it ends deeper than overlap_tolerance_m, its deepest
+// points join the constraints (see ImpactPoint), and failing that the step is cut.
 // Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
 // push dynamic ones through the same contacts. Nothing ever passes through anything:
 // surfaces only meet at a CCD time of impact, where they touch.
@@ -169,9 +177,11 @@ class World {
   // current poses to `next` (by participant), or 1. `cache` (optional) answers pairs
   // whose motions it has seen since the poses last changed. `deepening`: set when a
   // pair touching at the start ends deeper than overlap_tolerance_m (its points are in
-  // `meeting`, with no time of impact).
+  // `meeting`, with no time of impact). swept_boxes: the participants' swept boxes, if
+  // already known.
   double earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                         ImpactMap* meeting, ImpactCache* cache, bool* deepening) const;
+                         ImpactMap* meeting, ImpactCache* cache, bool* deepening,
+                         const std::vector<Eigen::AlignedBox3d>* swept_boxes = nullptr) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
   // The fraction of the motions to `next` at which no touching pair in `cache` that
