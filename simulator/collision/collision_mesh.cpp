@@ -1,11 +1,13 @@
 #include "simulator/collision/collision_mesh.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
 namespace arphys::collision {
 
-CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh)), tree_(mesh_) {
+CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh, bool test_each_feature_once)
+    : mesh_(std::move(mesh)), tree_(mesh_) {
   // Edges shared by exactly two triangles with the same normal are flat.
   std::unordered_map<uint64_t, std::vector<Eigen::Vector3d>> normals;
   vertex_normals_.assign(mesh_.vertices_m.size(), Eigen::Vector3d::Zero());
@@ -27,10 +29,17 @@ CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh) : mesh_(std::move(mesh
     for (const auto& n : ns) sum += n;
     edge_normals_[key] = sum;
   }
+  // Only triangles in the tree can stand for a feature: the tree leaves out degenerate
+  // ones, and a vertex owned by one of those would never be tested (a scanned bunny
+  // has some; bunnies then sank into each other).
+  std::vector<int> in_tree;
+  for (const ObbNode& node : tree_.nodes())
+    if (node.is_leaf()) in_tree.push_back(node.triangle);
+  std::sort(in_tree.begin(), in_tree.end());
   std::vector<bool> vertex_taken(mesh_.vertices_m.size(), false);
   std::unordered_set<uint64_t> edge_taken;
-  owned_features_.assign(mesh_.triangles.size(), 0);
-  for (std::size_t i = 0; i < mesh_.triangles.size(); ++i) {
+  owned_features_.assign(mesh_.triangles.size(), test_each_feature_once ? 0 : 0x3F);
+  for (const int i : test_each_feature_once ? in_tree : std::vector<int>{}) {
     const Eigen::Vector3i& t = mesh_.triangles[i];
     for (int k = 0; k < 3; ++k) {
       if (!vertex_taken[t[k]]) {

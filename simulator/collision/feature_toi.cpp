@@ -213,6 +213,39 @@ class TrianglePairSearch {
     }
     return interval_detail::up(v * (1 + 1e-12));
   }
+  // The feature pair (of the allowed ones, or else of all) closest at t: the one to
+  // report for triangles that touch there. (The first allowed bit could be two edges
+  // far from each other, whose cross product then became the contact normal.)
+  int closest_feature(double t, uint32_t allowed) const {
+    Eigen::Vector3d b[3], a_in_B[3];
+    for (int k = 0; k < 3; ++k) {
+      b[k] = rel_AB_.point_at(B_.corner[k], t);
+      a_in_B[k] = rel_BA_.point_at(A_.corner[k], t);
+    }
+    double best = std::numeric_limits<double>::infinity();
+    int best_bit = 0;
+    for (const uint32_t mask : {allowed, kAllPairs}) {
+      for (int bit = 0; bit < 15; ++bit) {
+        if (!(mask >> bit & 1)) continue;
+        double d;
+        if (bit < 3) {
+          d = (b[bit] - closest_point_on_triangle(b[bit], A_.corner[0], A_.corner[1], A_.corner[2])).norm();
+        } else if (bit < 6) {
+          const Eigen::Vector3d& p = a_in_B[bit - 3];
+          d = (p - closest_point_on_triangle(p, B_.corner[0], B_.corner[1], B_.corner[2])).norm();
+        } else {
+          const int i = (bit - 6) / 3, j = (bit - 6) % 3;
+          d = segment_segment_distance(A_.corner[i], A_.corner[(i + 1) % 3], b[j], b[(j + 1) % 3]);
+        }
+        if (d < best) {
+          best = d;
+          best_bit = bit;
+        }
+      }
+      if (best <= touch_distance_) break;  // an allowed pair touches: report it
+    }
+    return best_bit;
+  }
   double touch_distance() const { return touch_distance_; }
   bool exhausted() const { return exhausted_; }
   long nodes() const { return nodes_; }
@@ -223,7 +256,6 @@ class TrianglePairSearch {
     if (bit < 6) return {t, FeaturePair::kFaceVertex, bit - 3, -1};
     return {t, FeaturePair::kEdgeEdge, (bit - 6) / 3, (bit - 6) % 3};
   }
-  static int first_bit(uint32_t alive) { return __builtin_ctz(alive); }
 
  private:
   // Edge j of B moving within the plane of edge i of A (both edges in one plane, the
@@ -327,11 +359,10 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
     const Leaf leaf = search.search(W, features, tolerance);
     if (!leaf.alive) return {};
     // Out of budget: the start of the unresolved node, conservative (possibly early).
-    if (search.exhausted()) return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
+    if (search.exhausted()) return TrianglePairSearch::feature(search.closest_feature(leaf.T.lo, leaf.alive), leaf.T.lo);
     if (const auto contact = search.verify(leaf)) return *contact;
     const double d = search.distance_at(leaf.T.lo);
-    if (d <= search.touch_distance())
-      return TrianglePairSearch::feature(TrianglePairSearch::first_bit(leaf.alive), leaf.T.lo);
+    if (d <= search.touch_distance()) return TrianglePairSearch::feature(search.closest_feature(leaf.T.lo, leaf.alive), leaf.T.lo);
     if (zoom_levels > 0) {
       const FeatureContact inner = resolve(search, leaf.T, tolerance / 1024, zoom_levels - 1, features);
       if (inner.time != kNoContact) return inner;
@@ -347,7 +378,7 @@ FeatureContact resolve(const TrianglePairSearch& search, Interval W, double tole
   }
   // Still unresolved after many steps: report the end of the proven contact-free
   // prefix (never late; the only case where the TOI may be more than the tolerance early).
-  return TrianglePairSearch::feature(0, W.lo);
+  return TrianglePairSearch::feature(search.closest_feature(W.lo, features), W.lo);
 }
 
 }  // namespace

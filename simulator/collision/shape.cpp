@@ -15,7 +15,7 @@ Shape Shape::box(const Eigen::Vector3d& size_m) {
   Shape s;
   s.type_ = Type::kBox;
   s.size_m_ = size_m;
-  s.mesh_ = std::make_shared<const CollisionMesh>(geometry::make_box_mesh(size_m));
+  s.mesh_ = std::make_shared<const CollisionMesh>(geometry::make_box_mesh(size_m), /*test_each_feature_once=*/true);
   return s;
 }
 

@@ -675,7 +675,9 @@ StepReport World::step(double dt_s) {
       for (std::size_t s = 0; s < participants.size(); ++s)
         if (bodies_[participants[s]].is_dynamic()) moved[participants[s]] = outcome.swept[s];
     }
-    // Did any group's motion reach into another's?
+    // Did any group's motion reach into another's? (Only a group stepped on its own can
+    // have left the sweep it was grouped by.)
+    if (std::none_of(members.begin(), members.end(), [&](const auto& m) { return stepped[root(m.second)]; })) break;
     std::vector<Eigen::AlignedBox3d> boxes;
     boxes.reserve(dynamic.size());
     for (int i : dynamic) boxes.push_back(moved[i]);
