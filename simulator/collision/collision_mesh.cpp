@@ -29,25 +29,26 @@ CollisionMesh::CollisionMesh(geometry::TriangleMesh mesh, bool test_each_feature
     for (const auto& n : ns) sum += n;
     edge_normals_[key] = sum;
   }
-  // Only triangles in the tree can stand for a feature: the tree leaves out degenerate
-  // ones, and a vertex owned by one of those would never be tested (a scanned bunny
-  // has some; bunnies then sank into each other).
-  std::vector<int> in_tree;
-  for (const ObbNode& node : tree_.nodes())
-    if (node.is_leaf()) in_tree.push_back(node.triangle);
-  std::sort(in_tree.begin(), in_tree.end());
-  std::vector<bool> vertex_taken(mesh_.vertices_m.size(), false);
-  std::unordered_set<uint64_t> edge_taken;
   owned_features_.assign(mesh_.triangles.size(), test_each_feature_once ? 0 : 0x3F);
-  for (const int i : test_each_feature_once ? in_tree : std::vector<int>{}) {
-    const Eigen::Vector3i& t = mesh_.triangles[i];
-    for (int k = 0; k < 3; ++k) {
-      if (!vertex_taken[t[k]]) {
-        vertex_taken[t[k]] = true;
-        owned_features_[i] |= 1u << k;
+  if (test_each_feature_once) {
+    // Only triangles in the tree can stand for a feature: the tree leaves out degenerate
+    // ones, and a vertex owned by one of those would never be tested.
+    std::vector<int> in_tree;
+    for (const ObbNode& node : tree_.nodes())
+      if (node.is_leaf()) in_tree.push_back(node.triangle);
+    std::sort(in_tree.begin(), in_tree.end());
+    std::vector<bool> vertex_taken(mesh_.vertices_m.size(), false);
+    std::unordered_set<uint64_t> edge_taken;
+    for (const int i : in_tree) {
+      const Eigen::Vector3i& t = mesh_.triangles[i];
+      for (int k = 0; k < 3; ++k) {
+        if (!vertex_taken[t[k]]) {
+          vertex_taken[t[k]] = true;
+          owned_features_[i] |= 1u << k;
+        }
+        const uint64_t key = edge_key(t[k], t[(k + 1) % 3]);
+        if (!flat_edges_.count(key) && edge_taken.insert(key).second) owned_features_[i] |= 1u << (3 + k);
       }
-      const uint64_t key = edge_key(t[k], t[(k + 1) % 3]);
-      if (!flat_edges_.count(key) && edge_taken.insert(key).second) owned_features_[i] |= 1u << (3 + k);
     }
   }
   closed_ = geometry::mesh_topology(mesh_).closed();

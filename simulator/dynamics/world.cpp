@@ -4,7 +4,6 @@
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -63,6 +62,21 @@ geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h)
   X.linear() = R;
   X.translation() = body.com_W() + u.v_WC_m_s * h - R * body.mass.center_of_mass_m;
   return X;
+}
+
+// The CCD says the pair meets inside the motion (a time of impact the step can be cut at).
+bool meets_inside(const collision::ContinuousResult& r) {
+  return r.collides && r.time_of_impact > 0 && r.features.kind != collision::FeaturePair::kOverlapAtStart;
+}
+// The CCD says the pair already touches (or overlaps) at the start: it cannot time anything after.
+bool touching_at_start(const collision::ContinuousResult& r) {
+  return r.collides && !meets_inside(r);
+}
+
+// A participant's place in the (sorted) participants, -1 if it is not one.
+int slot_of(const std::vector<int>& participants, int body) {
+  const auto it = std::lower_bound(participants.begin(), participants.end(), body);
+  return it != participants.end() && *it == body ? static_cast<int>(it - participants.begin()) : -1;
 }
 
 double combined_friction(const RigidBody& a, const RigidBody& b) {
@@ -224,14 +238,14 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
   solved.insert(solved.end(), meeting.begin(), meeting.end());
   // The participants' dynamic bodies are the unknowns, in order (slot: their place in
   // `participants`, whose velocities are returned).
-  std::map<int, int> unknown_of;
+  std::vector<int> unknown_of_slot(participants.size(), -1);
   std::vector<int> slot_of_unknown;
   std::vector<BodyInertia> inertia;
   std::vector<BodyVelocity> u;
   for (std::size_t s = 0; s < participants.size(); ++s) {
     const RigidBody& body = bodies_[participants[s]];
     if (!body.is_dynamic()) continue;
-    unknown_of[participants[s]] = static_cast<int>(u.size());
+    unknown_of_slot[s] = static_cast<int>(u.size());
     slot_of_unknown.push_back(static_cast<int>(s));
     BodyInertia in;
     in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
@@ -245,8 +259,8 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
     u.push_back(v);
   }
   const auto unknown = [&](int body) {
-    const auto it = unknown_of.find(body);
-    return it == unknown_of.end() ? -1 : it->second;
+    const int slot = slot_of(participants, body);
+    return slot < 0 ? -1 : unknown_of_slot[slot];
   };
   std::vector<ContactRow> rows;
   rows.reserve(solved.size());
@@ -390,13 +404,13 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
       const geometry::ScrewMotion motion_a(a.X_WB, next[p]), motion_b(b.X_WB, next[q]);
       query = {true, next[p], next[q], collision::time_of_impact(a.shape, motion_a, b.shape, motion_b, options_.ccd), {}};
       const collision::ContinuousResult& r = query.result;
-      if (r.collides && r.features.kind != collision::FeaturePair::kNone && r.features.kind != collision::FeaturePair::kOverlapAtStart) {
+      if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
         // The meeting point as material points of both bodies, and A's normal there.
         const geometry::Pose X_A = motion_a.pose_at(r.time_of_impact);
         const geometry::Pose X_B = motion_b.pose_at(r.time_of_impact);
         query.hits = {{X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W}};
       }
-      if (r.collides && (r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0)) {
+      if (touching_at_start(r)) {
         // Touching or overlapping already: the CCD cannot time a meeting of surfaces
         // that meet at the start, and the contacts, linearised, let a turning body dig
         // in (1e-5 m in a pile of 1000 boxes). So the end of the motion is checked:
@@ -417,14 +431,13 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
         query.deepens = !query.hits.empty();
       }
     }
-    const collision::ContinuousResult& r = query.result;
     if (query.deepens) {
       if (deepening) *deepening = true;
       if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
       continue;
     }
-    if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart || r.time_of_impact <= 0) continue;
-    earliest = std::min(earliest, r.time_of_impact);
+    if (!meets_inside(query.result)) continue;
+    earliest = std::min(earliest, query.result.time_of_impact);
     if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
   }
   return earliest;
@@ -439,14 +452,11 @@ double World::deepest_overlap(int a, const geometry::Pose& X_WA, int b, const ge
 
 double World::shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                                const ImpactCache& cache) const {
-  std::map<int, int> slot;
-  for (std::size_t s = 0; s < participants.size(); ++s) slot[participants[s]] = static_cast<int>(s);
   double fraction = 1.0;
   for (const auto& [pair, query] : cache) {
     if (!query.valid || !query.deepens) continue;
-    const auto a = slot.find(pair.first), b = slot.find(pair.second);
-    if (a == slot.end() || b == slot.end()) continue;  // another group's pair
-    const int p = a->second, q = b->second;
+    const int p = slot_of(participants, pair.first), q = slot_of(participants, pair.second);
+    if (p < 0 || q < 0) continue;  // another group's pair
     if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
     const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
     for (int halving = 0; halving < 6; ++halving) {
@@ -516,7 +526,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           const auto velocity = [&](int body, const Eigen::Vector3d& p_W) -> Eigen::Vector3d {
             const RigidBody& b = bodies_[body];
             if (!b.is_dynamic()) return b.velocity_of_point(p_W);
-            const std::size_t slot = std::lower_bound(participants.begin(), participants.end(), body) - participants.begin();
+            const int slot = slot_of(participants, body);
             return u[slot].v_WC_m_s + u[slot].w_W_rad_s.cross(p_W - b.com_W());
           };
           const Eigen::Vector3d p_A = bodies_[pair.first].X_WB * hit.point_A_B, p_B = bodies_[pair.second].X_WB * hit.point_B_B;
@@ -611,8 +621,7 @@ StepReport World::step(double dt_s) {
   earliest_impact(everyone, next0, nullptr, &first_ccd, nullptr, &swept0);
   std::set<int> eventful;
   for (const auto& [pair, query] : first_ccd) {
-    const collision::ContinuousResult& r = query.result;
-    if (query.deepens || (r.collides && r.time_of_impact > 0 && r.features.kind != collision::FeaturePair::kOverlapAtStart))
+    if (query.deepens || meets_inside(query.result))
       eventful.insert(root(bodies_[pair.first].is_dynamic() ? pair.first : pair.second));
   }
 

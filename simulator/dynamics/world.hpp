@@ -84,8 +84,8 @@ struct Contact {
 
 struct StepReport {
   int impacts_resolved = 0;     // meetings found by the CCD and made constraints of the step
-  int events = 0;               // times the step was cut at a time of impact
-  bool events_capped = false;   // the step ended at an impact (time kept, motion dropped)
+  int events = 0;               // times the step was cut at a time of impact (its busiest group's)
+  bool events_capped = false;   // a group's step ended at an impact (time kept, motion dropped)
   int contacts = 0;             // constraints in the last solve of the step
   bool infeasible = false;      // a body squeezed between non-dynamic ones
   int iterative_islands = 0;    // contact islands too large for the exact solver (max_exact_rows)
