@@ -224,6 +224,34 @@ TEST(WorldRobustness, TumblingPileEndsEveryStepWithinTheOverlapTolerance) {
   }
 }
 
+// A resting pair moving slowly relative to each other is held by its contacts and
+// checked at the end of its motion, not swept by the CCD (whose search on surfaces 1 um
+// apart was most of a 1000-box pile's step); a pair in contact closing faster than the
+// contact tolerance per step is still swept.
+TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
+  World world;
+  RigidBody base = cube("base", {0, 0, 0.1});
+  base.motion = BodyMotion::kStatic;
+  world.add_body(base);
+  const double gap = world.options().contact_gap_m;
+  const int top = world.add_body(cube("top", {0, 0, 0.3 + gap}));
+  world.body(top).v_WC_m_s = {0.1, 0, 0};  // 0.1 mm per step, frictionless
+  int queries = 0;
+  for (int k = 0; k < 100; ++k) queries += world.step(1e-3).ccd_queries;
+  EXPECT_EQ(queries, 0);
+  const RigidBody& b = world.bodies()[top];
+  EXPECT_NEAR(b.X_WB.translation().x(), 0.01, 1e-12);
+  EXPECT_GE(b.X_WB.translation().z(), 0.3 - world.options().overlap_tolerance_m);
+  EXPECT_LE(b.X_WB.translation().z(), 0.3 + 2 * gap);
+
+  // Sliding at 2 m/s: in contact, but moving 2 mm per step, more than the contact tolerance.
+  World fast;
+  fast.add_body(base);
+  const int slider = fast.add_body(cube("top", {0, 0, 0.3 + gap}));
+  fast.body(slider).v_WC_m_s = {2, 0, 0};
+  EXPECT_GE(fast.step(1e-3).ccd_queries, 1);
+}
+
 TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
   World world;
   world.add_body(plane_body());
