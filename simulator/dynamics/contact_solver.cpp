@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <stdexcept>
 
 namespace arphys::dynamics {
 namespace {
@@ -291,14 +292,69 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
   return sweep;
 }
 
+bool same_row(const ContactRow& a, const ContactRow& b) {
+  return a.body_a == b.body_a && a.body_b == b.body_b && a.point_W == b.point_W && a.normal_W == b.normal_W &&
+         a.min_normal_velocity_m_s == b.min_normal_velocity_m_s &&
+         a.known_normal_velocity_m_s == b.known_normal_velocity_m_s && a.friction == b.friction;
+}
+
+// The same rows (bodies as keys) and the same starting velocities: the same answer.
+bool same_island(const SolvedIslands::Island& a, const SolvedIslands::Island& b) {
+  if (a.rows.size() != b.rows.size() || a.bodies != b.bodies) return false;
+  for (std::size_t k = 0; k < a.rows.size(); ++k)
+    if (!same_row(a.rows[k], b.rows[k])) return false;
+  for (std::size_t k = 0; k < a.before.size(); ++k)
+    if (a.before[k].v_WC_m_s != b.before[k].v_WC_m_s || a.before[k].w_W_rad_s != b.before[k].w_W_rad_s) return false;
+  return true;
+}
+
 }  // namespace
 
 ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
-                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options) {
+                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options,
+                                  SolvedIslands* memo, const std::vector<int>* body_keys) {
   ContactSolveResult result;
   result.normal_impulses_N_s.assign(rows.size(), 0.0);
+  if (memo && (!body_keys || body_keys->size() != velocities.size()))
+    throw std::invalid_argument("solve_contacts: a memo needs one body key per velocity");
   for (const std::vector<int>& island : islands(static_cast<int>(velocities.size()), rows)) {
     const int n = static_cast<int>(island.size());
+    // The island as keys: its rows and bodies, and the velocities it starts from.
+    SolvedIslands::Island key;
+    std::vector<int> members;  // the island's bodies (indices into velocities), as key.bodies
+    if (memo) {
+      const auto key_of = [&](int body) { return body < 0 ? -1 : (*body_keys)[body]; };
+      for (int r : island) {
+        ContactRow row = rows[r];
+        for (const int body : {row.body_a, row.body_b})
+          if (body >= 0 && std::find(members.begin(), members.end(), body) == members.end()) {
+            members.push_back(body);
+            key.bodies.push_back(key_of(body));
+            key.before.push_back(velocities[body]);
+          }
+        row.body_a = key_of(row.body_a);
+        row.body_b = key_of(row.body_b);
+        key.rows.push_back(row);
+      }
+      const SolvedIslands::Island* same = nullptr;
+      const auto candidates = memo->by_first_body.find(key.bodies.front());
+      if (candidates != memo->by_first_body.end())
+        for (const std::size_t k : candidates->second)
+          if (same_island(memo->islands[k], key)) {
+            same = &memo->islands[k];
+            break;
+          }
+      if (same) {
+        ++memo->reused;
+        for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = same->impulses[k];
+        for (std::size_t b = 0; b < members.size(); ++b) velocities[members[b]] = same->after[b];
+        result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, same->summary.kkt_residual_m_s);
+        result.infeasible |= same->summary.infeasible;
+        result.iterative_islands += same->summary.iterative_islands;
+        continue;
+      }
+    }
+    const ContactSolveResult before_island = result;
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
     bool frictional = false;
     for (int r : island) frictional |= rows[r].friction > 0;
@@ -363,6 +419,15 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       }
     }
     for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = lambda[k];
+    if (memo) {
+      for (int k = 0; k < n; ++k) key.impulses.push_back(lambda[k]);
+      for (const int body : members) key.after.push_back(velocities[body]);
+      key.summary.kkt_residual_m_s = result.kkt_residual_m_s;
+      key.summary.infeasible = result.infeasible && !before_island.infeasible;
+      key.summary.iterative_islands = result.iterative_islands - before_island.iterative_islands;
+      memo->by_first_body[key.bodies.front()].push_back(memo->islands.size());
+      memo->islands.push_back(std::move(key));
+    }
   }
   return result;
 }

@@ -7,6 +7,7 @@
 // is the impulse of an impact. Solved on its dual (lambda >= 0: the contact impulses),
 // exactly by an active-set method (Lawson-Hanson) with a KKT residual check, or
 // approximately by projected Gauss-Seidel, which also carries Coulomb friction.
+#include <map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -59,9 +60,29 @@ struct ContactSolveResult {
   int iterative_islands = 0;  // islands over max_exact_rows, solved iteratively
 };
 
+// Islands solved before, by content: a caller that solves again with a few rows added
+// (an impact found by the CCD) re-solves only the islands those rows touch. Valid while
+// the bodies' inertia (their poses) is unchanged; bodies are named by the caller's keys
+// (solve_contacts' body_keys), so solves over different subsets of bodies share it.
+struct SolvedIslands {
+  struct Island {
+    std::vector<ContactRow> rows;  // bodies as keys
+    std::vector<int> bodies;       // keys, in order of first appearance in rows
+    std::vector<BodyVelocity> before, after;
+    std::vector<double> impulses;
+    ContactSolveResult summary;  // its residual, iterations, infeasible, iterative_islands
+  };
+  std::vector<Island> islands;
+  std::map<int, std::vector<std::size_t>> by_first_body;  // islands by their first body's key
+  int reused = 0;  // islands answered from here
+};
+
 // Solves for `velocities` (in: unconstrained u*, out: u+). Independent groups of
-// bodies (islands) are solved separately.
+// bodies (islands) are solved separately. With `memo` (and body_keys: a key per body
+// of `velocities`), an island identical to one solved before (rows and velocities) takes
+// its answer, and every island solved is added.
 ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
-                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options);
+                                  const std::vector<ContactRow>& rows, const ContactSolverOptions& options,
+                                  SolvedIslands* memo = nullptr, const std::vector<int>* body_keys = nullptr);
 
 }  // namespace arphys::dynamics

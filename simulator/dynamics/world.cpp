@@ -242,7 +242,8 @@ std::vector<Contact> World::impact_contacts(const ImpactMap& impacts) const {
 
 std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vector<int>& participants,
                                        const std::vector<Contact>& resting, const ImpactMap& impacts,
-                                       std::vector<Contact>& solved, StepReport& report, bool* infeasible) const {
+                                       std::vector<Contact>& solved, StepReport& report, bool* infeasible,
+                                       SolvedIslands* memo) const {
   solved = resting;
   const std::vector<Contact> meeting = impact_contacts(impacts);
   solved.insert(solved.end(), meeting.begin(), meeting.end());
@@ -301,7 +302,9 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
   }
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
   const std::vector<BodyVelocity> u_unconstrained = u;
-  const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver);
+  std::vector<int> body_of_unknown(u.size());
+  for (std::size_t k = 0; k < u.size(); ++k) body_of_unknown[k] = participants[slot_of_unknown[k]];
+  const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver, memo, &body_of_unknown);
   // Launch guard. Contacts are passive: with restitution <= 1 a solve can at most
   // reverse (and pass on) the fastest motion among the bodies it couples, plus what
   // moving non-dynamic bodies and depenetration impose. A body left faster than twice
@@ -522,13 +525,17 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // touching and spinning) up to five times the step's gravity: they fell at twice the
     // free-fall speed.
     const double force_h = at_start ? dt_s : 0.0;
+    // Islands solved at these poses: a re-solve with an impact added re-solves only the
+    // islands the impact touches. (At the step's start, shared with the first solve.)
+    SolvedIslands fresh_islands;
+    SolvedIslands& solved_islands = at_start ? first.islands : fresh_islands;
     std::vector<BodyVelocity> u;
     bool squeezed = false;
     if (at_start) {
       u = first.u;
       outcome.contacts = first.solved;
     } else {
-      u = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed);
+      u = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
     }
     std::vector<geometry::Pose> next = candidate_poses(participants, u, elapsed, h);
     double tau = 1.0;
@@ -569,7 +576,8 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
         }
         impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
       }
-      std::vector<BodyVelocity> u_resolved = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed);
+      std::vector<BodyVelocity> u_resolved =
+          solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
       if (squeezed && tau >= 1.0) break;  // asked only to stop digging in, and it cannot be had: keep the motion
       u = std::move(u_resolved);
       next = candidate_poses(participants, u, elapsed, h);
@@ -619,7 +627,8 @@ StepReport World::step(double dt_s) {
   set_kinematic_state(everyone, time_s_, dt_s);
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
-  const std::vector<BodyVelocity> u0 = solve(dt_s, dt_s, everyone, resting, {}, solved, report);
+  SolvedIslands islands_at_start;
+  const std::vector<BodyVelocity> u0 = solve(dt_s, dt_s, everyone, resting, {}, solved, report, nullptr, &islands_at_start);
   const std::vector<geometry::Pose> next0 = candidate_poses(everyone, u0, 0, dt_s);
 
   // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the
@@ -703,7 +712,7 @@ StepReport World::step(double dt_s) {
       }
       std::vector<int> participants;
       std::merge(bodies.begin(), bodies.end(), fixed.begin(), fixed.end(), std::back_inserter(participants));
-      FirstSolve f;
+      FirstSolve f{{}, {}, {}, islands_at_start};
       for (int i : participants) f.u.push_back(u0[i]);
       for (int k : resting_of[g]) {
         f.resting.push_back(resting[k]);

@@ -151,6 +151,7 @@ class World {
   struct FirstSolve {
     std::vector<BodyVelocity> u;
     std::vector<Contact> resting, solved;
+    SolvedIslands& islands;  // the islands solved at the step's start poses, shared by every group
   };
   struct GroupOutcome {
     std::vector<Contact> contacts;            // of the group's last solve
@@ -173,7 +174,7 @@ class World {
   // (the whole step in its first solve, 0 after a cut).
   std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<int>& participants,
                                   const std::vector<Contact>& resting, const ImpactMap& impacts, std::vector<Contact>& solved,
-                                  StepReport& report, bool* infeasible = nullptr) const;
+                                  StepReport& report, bool* infeasible = nullptr, SolvedIslands* memo = nullptr) const;
   // Where the participants would be after h from now (elapsed into the step) with
   // velocities u (by participant).
   std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
