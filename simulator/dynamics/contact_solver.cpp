@@ -1,6 +1,8 @@
 #include "simulator/dynamics/contact_solver.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -106,7 +108,19 @@ struct DualSolution {
 // equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
 // ridge keeps the passive block solvable when contacts are redundant (four corners
 // of a face constrain three degrees of freedom).
+// Above this many rows the active set's passive block is factorised sparse (in a
+// fill-reducing order) and the dual residual computed with the sparse matrix: a pile's
+// island of 600 rows took 20-30 ms per dense factorisation, one per added row; its
+// Delassus matrix has a few dozen non-zeros per row. Below it, dense is faster.
+constexpr int kSparseRows = 128;
+
 DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool warm_start) {
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  const bool sparse = q.size() > kSparseRows;
+  const SparseMatrix A_sparse = sparse ? SparseMatrix(A.sparseView()) : SparseMatrix();
+  const auto residual = [&](const Eigen::VectorXd& lambda) -> Eigen::VectorXd {
+    return sparse ? Eigen::VectorXd(A_sparse * lambda + q) : Eigen::VectorXd(A * lambda + q);
+  };
   const int n = static_cast<int>(q.size());
   DualSolution out;
   out.lambda = Eigen::VectorXd::Zero(n);
@@ -115,15 +129,35 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   const double ridge = 1e-13 * std::max(1e-300, A.diagonal().maxCoeff());
   std::vector<char> passive(n, 0);
   // Solves the equality problem on the passive rows (with the ridge).
+  std::vector<int> local(q.size(), -1);  // a row's place in the passive block
   auto solve_passive = [&](const std::vector<int>& P) {
-    Eigen::MatrixXd App(P.size(), P.size());
-    Eigen::VectorXd qp(P.size());
-    for (std::size_t r = 0; r < P.size(); ++r) {
-      qp[r] = q[P[r]];
-      for (std::size_t c = 0; c < P.size(); ++c) App(r, c) = A(P[r], P[c]);
+    const int m = static_cast<int>(P.size());
+    Eigen::VectorXd rhs(m);
+    for (int r = 0; r < m; ++r) rhs[r] = -q[P[r]];
+    if (sparse && m > kSparseRows) {
+      for (int r = 0; r < m; ++r) local[P[r]] = r;
+      std::vector<Eigen::Triplet<double>> entries;
+      for (int c = 0; c < m; ++c)
+        for (SparseMatrix::InnerIterator it(A_sparse, P[c]); it; ++it)
+          if (local[it.row()] >= 0) entries.emplace_back(local[it.row()], c, it.value() + (it.row() == P[c] ? ridge : 0.0));
+      for (int r = 0; r < m; ++r) local[P[r]] = -1;
+      SparseMatrix App(m, m);
+      App.setFromTriplets(entries.begin(), entries.end());
+      const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(App);
+      if (ldlt.info() == Eigen::Success) {
+        // Without pivoting the ridge-regularised block can lose digits: refined once and
+        // checked against the block itself, else solved dense as below.
+        Eigen::VectorXd s = ldlt.solve(rhs);
+        s += ldlt.solve(rhs - App * s);
+        if (s.allFinite() && (App * s - rhs).norm() <= 1e-9 * (rhs.norm() + 1e-300)) return s;
+      }
+    }
+    Eigen::MatrixXd App(m, m);
+    for (int r = 0; r < m; ++r) {
+      for (int c = 0; c < m; ++c) App(r, c) = A(P[r], P[c]);
       App(r, r) += ridge;
     }
-    return Eigen::VectorXd(App.ldlt().solve(-qp));
+    return Eigen::VectorXd(App.ldlt().solve(rhs));
   };
   // Warm start: the rows the unconstrained motion would violate are, at rest, nearly
   // all the active ones. Start from them, dropping those the equality solution pushes
@@ -154,7 +188,7 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
       P = std::move(kept);
     }
   }
-  Eigen::VectorXd w = A * out.lambda + q;
+  Eigen::VectorXd w = residual(out.lambda);
   const int max_outer = 3 * n + 20;
   for (int outer = 0; outer < max_outer; ++outer) {
     ++out.iterations;
@@ -185,7 +219,7 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
         }
       }
     }
-    w = A * out.lambda + q;
+    w = residual(out.lambda);
     if (!out.lambda.allFinite() || out.lambda.cwiseAbs().maxCoeff() > 1e12 * scale) {
       out.converged = false;
       break;
