@@ -80,7 +80,7 @@ struct SolvedIslands {
 // Solves for `velocities` (in: unconstrained u*, out: u+). Independent groups of
 // bodies (islands) are solved separately. With `memo` (and body_keys: a key per body
 // of `velocities`), an island identical to one solved before (rows and velocities) takes
-// its answer, and every island solved is added.
+// its answer, and every island of 16 rows or more that is solved is added.
 ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
                                   const std::vector<ContactRow>& rows, const ContactSolverOptions& options,
                                   SolvedIslands* memo = nullptr, const std::vector<int>* body_keys = nullptr);

@@ -33,8 +33,11 @@ TEST(SolvedIslands, AnAddedRowResolvesOnlyItsIslandAndAnswersAsAFreshSolve) {
   falling[0].v_WC_m_s = {0.3, 0, -1};
   falling[1].v_WC_m_s = {-0.2, 0.1, -2};
   falling[1].w_W_rad_s = {0, 1, 0};
-  std::vector<ContactRow> rows{on_ground(0, {-0.1, -0.1, 0}), on_ground(0, {0.1, 0.1, 0}),
-                               on_ground(1, {0.9, -0.1, 0}), on_ground(1, {1.1, 0.1, 0})};
+  // 16 points under each box (islands that small are not remembered: re-solving them is as cheap).
+  std::vector<ContactRow> rows;
+  for (int body = 0; body < 2; ++body)
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) rows.push_back(on_ground(body, {body - 0.1 + 0.2 * i / 3, -0.1 + 0.2 * j / 3, 0}));
   const std::vector<int> keys{10, 11};
   SolvedIslands memo;
   std::vector<BodyVelocity> u = falling;
@@ -108,7 +111,7 @@ TEST(ContactSolver, LargeIslandIsSolvedExactly) {
   for (int k = 0; k < boxes; ++k) after_x += u[k].v_WC_m_s.x();
   EXPECT_NEAR(after_x, momentum_x, 1e-9);
   for (const ContactRow& row : rows) {
-    const auto point_velocity = [&](int body) {
+    const auto point_velocity = [&](int body) -> Eigen::Vector3d {
       return u[body].v_WC_m_s + u[body].w_W_rad_s.cross(row.point_W - inertia[body].com_W);
     };
     Eigen::Vector3d relative = point_velocity(row.body_b);
