@@ -392,7 +392,13 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         continue;
       }
     }
-    const ContactSolveResult before_island = result;
+    // This island's own residual, squeeze and iterative flag (for the memo); the totals
+    // are restored below.
+    const double residual_before = result.kkt_residual_m_s;
+    const bool infeasible_before = result.infeasible;
+    const int iterative_before = result.iterative_islands;
+    result.kkt_residual_m_s = 0;
+    result.infeasible = false;
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
     bool frictional = false;
     for (int r : island) frictional |= rows[r].friction > 0;
@@ -457,12 +463,16 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       }
     }
     for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = lambda[k];
+    const double island_residual = result.kkt_residual_m_s;
+    const bool island_infeasible = result.infeasible;
+    result.kkt_residual_m_s = std::max(residual_before, island_residual);
+    result.infeasible = infeasible_before || island_infeasible;
     if (remember) {
       for (int k = 0; k < n; ++k) key.impulses.push_back(lambda[k]);
       for (const int body : members) key.after.push_back(velocities[body]);
-      key.summary.kkt_residual_m_s = result.kkt_residual_m_s;
-      key.summary.infeasible = result.infeasible && !before_island.infeasible;
-      key.summary.iterative_islands = result.iterative_islands - before_island.iterative_islands;
+      key.summary.kkt_residual_m_s = island_residual;
+      key.summary.infeasible = island_infeasible;
+      key.summary.iterative_islands = result.iterative_islands - iterative_before;
       memo->by_first_body[key.bodies.front()].push_back(memo->islands.size());
       memo->islands.push_back(std::move(key));
     }
