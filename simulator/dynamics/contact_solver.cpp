@@ -104,16 +104,16 @@ struct DualSolution {
   bool converged = true;
 };
 
-// min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
-// equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
-// ridge keeps the passive block solvable when contacts are redundant (four corners
-// of a face constrain three degrees of freedom).
 // Above this many rows the active set's passive block is factorised sparse (in a
 // fill-reducing order) and the dual residual computed with the sparse matrix: a pile's
 // island of 600 rows took 20-30 ms per dense factorisation, one per added row; its
 // Delassus matrix has a few dozen non-zeros per row. Below it, dense is faster.
 constexpr int kSparseRows = 128;
 
+// min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
+// equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
+// ridge keeps the passive block solvable when contacts are redundant (four corners
+// of a face constrain three degrees of freedom).
 DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool warm_start) {
   using SparseMatrix = Eigen::SparseMatrix<double>;
   const bool sparse = q.size() > kSparseRows;

@@ -70,7 +70,7 @@ struct SolvedIslands {
     std::vector<int> bodies;       // keys, in order of first appearance in rows
     std::vector<BodyVelocity> before, after;
     std::vector<double> impulses;
-    ContactSolveResult summary;  // its residual, iterations, infeasible, iterative_islands
+    ContactSolveResult summary;  // its kkt_residual_m_s, infeasible and iterative_islands only
   };
   std::vector<Island> islands;
   std::map<int, std::vector<std::size_t>> by_first_body;  // islands by their first body's key
