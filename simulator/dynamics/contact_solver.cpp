@@ -1,5 +1,7 @@
 #include "simulator/dynamics/contact_solver.hpp"
 
+#include "simulator/dynamics/incremental_cholesky.hpp"
+
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -113,8 +115,12 @@ constexpr int kSparseRows = 128;
 // min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
 // equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
 // ridge keeps the passive block solvable when contacts are redundant (four corners
-// of a face constrain three degrees of freedom).
-DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool warm_start) {
+// of a face constrain three degrees of freedom). The passive block's factor follows
+// the rows joining and leaving it (IncrementalCholesky) up to kSparseRows rows; a
+// larger block is factorised sparse, afresh, each time it changes.
+// pushed_before: rows to start the warm start from besides the violated ones.
+DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool warm_start,
+                              const std::vector<char>& pushed_before) {
   using SparseMatrix = Eigen::SparseMatrix<double>;
   const bool sparse = q.size() > kSparseRows;
   const SparseMatrix A_sparse = sparse ? SparseMatrix(A.sparseView()) : SparseMatrix();
@@ -126,41 +132,67 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   out.lambda = Eigen::VectorXd::Zero(n);
   const double scale = std::max(1.0, q.cwiseAbs().maxCoeff());
   const double tolerance = 1e-11 * scale;
-  const double ridge = 1e-13 * std::max(1e-300, A.diagonal().maxCoeff());
+  const double ridge = std::max(1e-300, 1e-13 * A.diagonal().maxCoeff());
   std::vector<char> passive(n, 0);
-  // Solves the equality problem on the passive rows (with the ridge).
+  std::vector<int> P;  // the passive rows, in the order they joined
+  IncrementalCholesky factor;
+  bool factor_follows = false;  // factor.rows() == P
+  const auto large = [&] { return sparse && static_cast<int>(P.size()) > kSparseRows; };
+  const auto join = [&](int row) {
+    P.push_back(row);
+    passive[row] = 1;
+    if (!factor_follows) return;
+    if (large())
+      factor_follows = false;
+    else
+      factor.add(A, row, ridge);
+  };
+  // Drops the rows at these positions of P (ascending).
+  const auto leave = [&](const std::vector<std::size_t>& positions) {
+    // Many rows leaving at once: cheaper to factorise again when next needed.
+    if (3 * positions.size() > P.size()) factor_follows = false;
+    for (auto position = positions.rbegin(); position != positions.rend(); ++position) {
+      passive[P[*position]] = 0;
+      P.erase(P.begin() + static_cast<std::ptrdiff_t>(*position));
+      if (factor_follows) factor.remove(*position);
+    }
+  };
   std::vector<int> local(q.size(), -1);  // a row's place in the passive block
-  auto solve_passive = [&](const std::vector<int>& P) {
+  // The equality problem on the passive rows (with the ridge), by position in P.
+  const auto solve_passive = [&]() -> Eigen::VectorXd {
     const int m = static_cast<int>(P.size());
     Eigen::VectorXd rhs(m);
     for (int r = 0; r < m; ++r) rhs[r] = -q[P[r]];
-    if (sparse && m > kSparseRows) {
-      for (int r = 0; r < m; ++r) local[P[r]] = r;
-      std::vector<Eigen::Triplet<double>> entries;
-      for (int c = 0; c < m; ++c)
-        for (SparseMatrix::InnerIterator it(A_sparse, P[c]); it; ++it)
-          if (local[it.row()] >= 0) entries.emplace_back(local[it.row()], c, it.value() + (it.row() == P[c] ? ridge : 0.0));
-      for (int r = 0; r < m; ++r) local[P[r]] = -1;
-      SparseMatrix App(m, m);
-      App.setFromTriplets(entries.begin(), entries.end());
-      const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(App);
-      if (ldlt.info() == Eigen::Success) {
-        // Without pivoting the ridge-regularised block can lose digits: refined once and
-        // checked against the block itself, else solved dense as below.
-        Eigen::VectorXd s = ldlt.solve(rhs);
-        s += ldlt.solve(rhs - App * s);
-        if (s.allFinite() && (App * s - rhs).norm() <= 1e-9 * (rhs.norm() + 1e-300)) return s;
+    if (!large()) {
+      if (!factor_follows) {
+        factor.factor(A, P, ridge);
+        factor_follows = true;
       }
+      return factor.solve(rhs);
     }
-    Eigen::MatrixXd App(m, m);
-    for (int r = 0; r < m; ++r) {
-      for (int c = 0; c < m; ++c) App(r, c) = A(P[r], P[c]);
-      App(r, r) += ridge;
+    for (int r = 0; r < m; ++r) local[P[r]] = r;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int c = 0; c < m; ++c)
+      for (SparseMatrix::InnerIterator it(A_sparse, P[c]); it; ++it)
+        if (local[it.row()] >= 0) entries.emplace_back(local[it.row()], c, it.value() + (it.row() == P[c] ? ridge : 0.0));
+    for (int r = 0; r < m; ++r) local[P[r]] = -1;
+    SparseMatrix App(m, m);
+    App.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(App);
+    if (ldlt.info() == Eigen::Success) {
+      // Without pivoting the ridge-regularised block can lose digits: refined once and
+      // checked against the block itself, else solved dense.
+      Eigen::VectorXd s = ldlt.solve(rhs);
+      s += ldlt.solve(rhs - App * s);
+      if (s.allFinite() && (App * s - rhs).norm() <= 1e-9 * (rhs.norm() + 1e-300)) return s;
     }
-    return Eigen::VectorXd(App.ldlt().solve(rhs));
+    IncrementalCholesky dense;
+    dense.factor(A, P, ridge);
+    return dense.solve(rhs);
   };
-  // Warm start: the rows the unconstrained motion would violate are, at rest, nearly
-  // all the active ones. Start from them, dropping those the equality solution pushes
+  // Warm start: the rows the unconstrained motion would violate are, at rest, most of
+  // the active ones, and the caller's rows that pushed before most of the rest. Start
+  // from them, dropping those the equality solution pushes
   // the wrong way until it is positive; the loop below then adds what is still
   // violated, one row at a time. A cold start adds every one of them that way, each
   // with a new factorisation: a pile with a thousand contact rows took a second.
@@ -170,22 +202,18 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   // friction by its normal impulse and, from the spread answer, launched bunnies of a
   // frictional pile (300+ rad/s): frictional islands start cold.
   if (warm_start) {
-    std::vector<int> P;
     for (int i = 0; i < n; ++i)
-      if (q[i] < -tolerance) P.push_back(i);
+      if (q[i] < -tolerance || pushed_before[i]) join(i);
     while (!P.empty()) {
-      const Eigen::VectorXd s = solve_passive(P);
-      std::vector<int> kept;
+      const Eigen::VectorXd s = solve_passive();
+      std::vector<std::size_t> pushing_wrong_way;
       for (std::size_t r = 0; r < P.size(); ++r)
-        if (s[r] > 0) kept.push_back(P[r]);
-      if (kept.size() == P.size()) {
-        for (std::size_t r = 0; r < P.size(); ++r) {
-          out.lambda[P[r]] = s[r];
-          passive[P[r]] = 1;
-        }
+        if (!(s[r] > 0)) pushing_wrong_way.push_back(r);
+      if (pushing_wrong_way.empty()) {
+        for (std::size_t r = 0; r < P.size(); ++r) out.lambda[P[r]] = s[r];
         break;
       }
-      P = std::move(kept);
+      leave(pushing_wrong_way);
     }
   }
   Eigen::VectorXd w = residual(out.lambda);
@@ -196,12 +224,9 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
     for (int i = 0; i < n; ++i)
       if (!passive[i] && w[i] < -tolerance && (j < 0 || w[i] < w[j])) j = i;
     if (j < 0) break;
-    passive[j] = 1;
+    join(j);
     for (int inner = 0; inner < 3 * n + 20; ++inner) {
-      std::vector<int> P;
-      for (int i = 0; i < n; ++i)
-        if (passive[i]) P.push_back(i);
-      const Eigen::VectorXd s = solve_passive(P);
+      const Eigen::VectorXd s = solve_passive();
       if ((s.array() > 0).all()) {
         for (std::size_t r = 0; r < P.size(); ++r) out.lambda[P[r]] = s[r];
         break;
@@ -210,14 +235,16 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
       double alpha = 1;
       for (std::size_t r = 0; r < P.size(); ++r)
         if (s[r] <= 0) alpha = std::min(alpha, out.lambda[P[r]] / (out.lambda[P[r]] - s[r]));
+      std::vector<std::size_t> reached_zero;
       for (std::size_t r = 0; r < P.size(); ++r) {
         double& l = out.lambda[P[r]];
         l += alpha * (s[r] - l);
         if (l <= 1e-300 || (s[r] <= 0 && l <= 1e-15 * scale)) {
           l = 0;
-          passive[P[r]] = 0;
+          reached_zero.push_back(r);
         }
       }
+      leave(reached_zero);
     }
     w = residual(out.lambda);
     if (!out.lambda.allFinite() || out.lambda.cwiseAbs().maxCoeff() > 1e12 * scale) {
@@ -329,7 +356,8 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
 bool same_row(const ContactRow& a, const ContactRow& b) {
   return a.body_a == b.body_a && a.body_b == b.body_b && a.point_W == b.point_W && a.normal_W == b.normal_W &&
          a.min_normal_velocity_m_s == b.min_normal_velocity_m_s &&
-         a.known_normal_velocity_m_s == b.known_normal_velocity_m_s && a.friction == b.friction;
+         a.known_normal_velocity_m_s == b.known_normal_velocity_m_s && a.friction == b.friction &&
+         a.pushed_before == b.pushed_before;
 }
 
 // The same rows (bodies as keys) and the same starting velocities: the same answer.
@@ -409,6 +437,8 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       std::vector<JacobianRow> J(n);
       for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
       const Eigen::MatrixXd A = delassus_matrix(J, rows, island, inertia);
+      std::vector<char> pushed_before(n);
+      for (int k = 0; k < n; ++k) pushed_before[k] = rows[island[k]].pushed_before;
       const std::vector<BodyVelocity> unconstrained = velocities;
       // Without friction one exact solve. With it, staggered: exact normals for the
       // current friction impulses, then friction sweeps with those normals held, three
@@ -432,7 +462,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           const ContactRow& ri = rows[island[i]];
           q[i] = apply(J[i], ri, velocities) + ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
         }
-        DualSolution dual = solve_dual_exact(A, q, !frictional);
+        DualSolution dual = solve_dual_exact(A, q, !frictional, pushed_before);
         if (!dual.converged) {
           // Contradictory demands: keep only "do not approach" (never push apart).
           result.infeasible = true;
@@ -440,7 +470,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
             const ContactRow& ri = rows[island[i]];
             q[i] = apply(J[i], ri, velocities) + std::min(0.0, ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s);
           }
-          dual = solve_dual_exact(A, q, !frictional);
+          dual = solve_dual_exact(A, q, !frictional, pushed_before);
           if (!dual.converged) dual.lambda.setZero();  // give up on this island rather than launch it
         }
         lambda = dual.lambda;

@@ -34,6 +34,11 @@ struct ContactRow {
   double min_normal_velocity_m_s = 0;
   double known_normal_velocity_m_s = 0;
   double friction = 0;  // Coulomb coefficient; 0: frictionless
+  // A hint, not a constraint: the same contact pushed in the caller's previous solve.
+  // The exact solver starts its active set from such rows (a pile's contacts between
+  // boxes falling together are not violated by the unconstrained motion, and were
+  // otherwise found one per iteration: about fifty per solve in a 1000-box pile).
+  bool pushed_before = false;
 };
 
 enum class ContactSolverKind { kExact, kProjectedGaussSeidel };

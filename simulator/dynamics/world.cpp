@@ -175,6 +175,7 @@ void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);
   contacts_.clear();
+  pushed_before_.clear();
 }
 
 int World::find(const std::string& id) const {
@@ -216,7 +217,16 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
     const auto features = reduce_manifold(collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance),
                                           options_.max_contacts_per_pair);
-    for (const auto& feature : features) contacts.push_back({i, j, feature, 0.0});
+    const std::pair<int, int> key{std::min(i, j), std::max(i, j)};
+    const auto pushed = std::lower_bound(pushed_before_.begin(), pushed_before_.end(), key,
+                                         [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
+    for (const auto& feature : features) {
+      Contact contact{i, j, feature, 0.0};
+      const Eigen::Vector3d point_W = 0.5 * (feature.point_A_W + feature.point_B_W);
+      for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
+        contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
+      contacts.push_back(contact);
+    }
   }
   return contacts;
 }
@@ -298,6 +308,7 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
       row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
     row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, c.min_normal_velocity_m_s);
     row.friction = combined_friction(a, b);
+    row.pushed_before = c.pushed_before;
     rows.push_back(row);
   }
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
@@ -751,6 +762,13 @@ StepReport World::step(double dt_s) {
   for (int i : dynamic)
     if (root(i) == i && stepped[i]) contacts_.insert(contacts_.end(), contacts_of[i].begin(), contacts_of[i].end());
   report.contacts = static_cast<int>(contacts_.size());
+  pushed_before_.clear();
+  for (const Contact& c : contacts_)
+    if (c.impulse_N_s > 0)
+      pushed_before_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)},
+                                0.5 * (c.feature.point_A_W + c.feature.point_B_W)});
+  std::sort(pushed_before_.begin(), pushed_before_.end(),
+            [](const PushedPoint& x, const PushedPoint& y) { return x.bodies < y.bodies; });
   time_s_ += dt_s;
   set_kinematic_state(everyone, time_s_, 0.0);
   return report;

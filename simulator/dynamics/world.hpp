@@ -86,6 +86,9 @@ struct Contact {
   double impulse_N_s = 0;  // normal impulse of the last solve
   // A lower bound on the normal velocity beyond what the gap asks (see ImpactPoint).
   double min_normal_velocity_m_s = -std::numeric_limits<double>::infinity();
+  // The pair pushed within contact_tolerance_m of this point in the previous step's last
+  // solve (a warm-start hint for the solver, see ContactRow::pushed_before).
+  bool pushed_before = false;
 };
 
 struct StepReport {
@@ -207,6 +210,12 @@ class World {
   std::vector<RigidBody> bodies_;
   std::vector<double> radius_m_;  // bounding radius about each body origin
   std::vector<Contact> contacts_;
+  // Where each pair pushed in the previous step (contacts_ with an impulse), sorted by pair.
+  struct PushedPoint {
+    std::pair<int, int> bodies;
+    Eigen::Vector3d point_W;
+  };
+  std::vector<PushedPoint> pushed_before_;
   double time_s_ = 0;
 };
 
