@@ -29,14 +29,18 @@ Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eige
 }
 
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes) {
-  const int n = static_cast<int>(boxes.size());
-  std::vector<int> order(boxes.size());
-  std::iota(order.begin(), order.end(), 0);
+  // A box with a NaN coordinate overlaps nothing; in the sweep it would break the order
+  // (and stop a scan early, hiding pairs).
+  std::vector<int> order;
+  order.reserve(boxes.size());
+  for (int i = 0; i < static_cast<int>(boxes.size()); ++i)
+    if (!boxes[i].min().array().isNaN().any() && !boxes[i].max().array().isNaN().any()) order.push_back(i);
+  const int n = static_cast<int>(order.size());
   std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
   // The boxes in sweep order, contiguous: each box is tested against the ones after it
   // that start before it ends along x (in a pile, a hundred or more: the scan is the
   // broad phase's whole cost, and indirect access through `order` doubled it).
-  std::vector<Eigen::AlignedBox3d> sorted(boxes.size());
+  std::vector<Eigen::AlignedBox3d> sorted(order.size());
   for (int k = 0; k < n; ++k) sorted[k] = boxes[order[k]];
   std::vector<std::pair<int, int>> pairs;
   for (int k = 0; k < n; ++k) {
@@ -52,7 +56,7 @@ std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::Alig
   // Sorted by two counting passes (second index, then stably the first): linear in the
   // pairs, where a comparison sort of a pile's thousands of pairs cost as much as the sweep.
   std::vector<std::pair<int, int>> by_second(pairs.size());
-  std::vector<int> start(n + 1);
+  std::vector<int> start(boxes.size() + 1);
   const auto counting_pass = [&](const std::vector<std::pair<int, int>>& in, std::vector<std::pair<int, int>>& out,
                                  int std::pair<int, int>::*key) {
     std::fill(start.begin(), start.end(), 0);

@@ -17,7 +17,8 @@ namespace arphys::collision {
 Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eigen::Vector3d& center_B, double radius_m,
                                  int pieces = 8);
 
-// Index pairs (i < j) whose boxes overlap, sorted. Boxes may be infinite.
+// Index pairs (i < j) whose boxes overlap, sorted. Boxes may be infinite or empty; one
+// with a NaN coordinate overlaps nothing.
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes);
 
 }  // namespace arphys::collision

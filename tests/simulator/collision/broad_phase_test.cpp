@@ -30,23 +30,54 @@ TEST(BroadPhase, SweptBoundsContainTheBallAlongTheScrew) {
   }
 }
 
-TEST(BroadPhase, SweepAndPruneMatchesBruteForce) {
-  std::mt19937 rng(8);
-  std::uniform_real_distribution<double> u(0, 10), size(0.1, 1.5);
-  std::vector<Eigen::AlignedBox3d> boxes;
-  for (int i = 0; i < 300; ++i) {
-    const Eigen::Vector3d lo(u(rng), u(rng), u(rng));
-    boxes.emplace_back(lo, lo + Eigen::Vector3d(size(rng), size(rng), size(rng)));
-  }
-  const double inf = std::numeric_limits<double>::infinity();
-  boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.5));  // a floor: meets many
-  std::vector<std::pair<int, int>> brute;
+std::vector<std::pair<int, int>> brute_force(const std::vector<Eigen::AlignedBox3d>& boxes) {
+  std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i)
     for (int j = i + 1; j < static_cast<int>(boxes.size()); ++j)
-      if (boxes[i].intersects(boxes[j])) brute.emplace_back(i, j);
+      if (boxes[i].intersects(boxes[j])) pairs.emplace_back(i, j);
+  return pairs;
+}
+
+// Random sizes, few and many, and a floor that meets many.
+TEST(BroadPhase, OverlappingPairsMatchBruteForce) {
+  for (const int count : {40, 300}) {
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> u(0, 10), size(0.1, 1.5);
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (int i = 0; i < count; ++i) {
+      const Eigen::Vector3d lo(u(rng), u(rng), u(rng));
+      boxes.emplace_back(lo, lo + Eigen::Vector3d(size(rng), size(rng), size(rng)));
+    }
+    const double inf = std::numeric_limits<double>::infinity();
+    boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.5));  // a floor: meets many
+    const auto pairs = overlapping_pairs(boxes);
+    EXPECT_EQ(pairs, brute_force(boxes)) << count << " boxes";
+    EXPECT_GT(pairs.size(), count == 300 ? 100u : 2u);
+  }
+}
+
+// A pile: equal boxes in touching columns and layers (each overlaps a dozen others;
+// each pair reported once), one large box (a table), a floor, an empty box and a NaN
+// box among them.
+TEST(BroadPhase, PileWithOddBoxesMatchesBruteForce) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int layer = 0; layer < 6; ++layer)
+    for (int gy = 0; gy < 8; ++gy)
+      for (int gx = 0; gx < 8; ++gx) {
+        const Eigen::Vector3d c(0.35 * gx + jitter(rng), 0.35 * gy + jitter(rng), 0.2 + 0.35 * layer + jitter(rng));
+        boxes.emplace_back(c - Eigen::Vector3d::Constant(0.175), c + Eigen::Vector3d::Constant(0.175));
+      }
+  boxes.emplace_back(Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(3, 3, 0.1));  // a table
+  const double inf = std::numeric_limits<double>::infinity();
+  boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.05));
+  boxes.insert(boxes.begin() + 17, Eigen::AlignedBox3d());  // empty
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  boxes.insert(boxes.begin() + 100, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(nan)));
   const auto pairs = overlapping_pairs(boxes);
-  EXPECT_EQ(pairs, brute);
-  EXPECT_GT(pairs.size(), 100u);
+  EXPECT_EQ(pairs, brute_force(boxes));
+  EXPECT_GT(pairs.size(), 1000u);
 }
 
 }  // namespace
