@@ -392,13 +392,14 @@ Eigen::AlignedBox3d World::swept_box(int body, const geometry::Pose& next) const
 double World::earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting,
                               ImpactCache* cache, bool* deepening, StepReport& report,
-                              const std::vector<Eigen::AlignedBox3d>* swept_boxes) const {
-  std::vector<Eigen::AlignedBox3d> own;
-  if (!swept_boxes) {
-    own.reserve(participants.size());
-    for (std::size_t s = 0; s < participants.size(); ++s) own.push_back(swept_box(participants[s], next[s]));
+                              const std::vector<std::pair<int, int>>* swept_pairs) const {
+  std::vector<std::pair<int, int>> own;
+  if (!swept_pairs) {
+    std::vector<Eigen::AlignedBox3d> swept;
+    swept.reserve(participants.size());
+    for (std::size_t s = 0; s < participants.size(); ++s) swept.push_back(swept_box(participants[s], next[s]));
+    own = collision::overlapping_pairs(swept);
   }
-  const std::vector<Eigen::AlignedBox3d>& swept = swept_boxes ? *swept_boxes : own;
   // How far each body's points can move over the step: its origin's displacement and
   // its rotation angle times its radius about the origin.
   std::vector<Eigen::Vector3d> shift(participants.size());
@@ -410,7 +411,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     turn[s] = angle > 0 ? angle * radius_m_[participants[s]] : 0.0;
   }
   double earliest = 1.0;
-  for (const auto& [p, q] : collision::overlapping_pairs(swept)) {
+  for (const auto& [p, q] : swept_pairs ? *swept_pairs : own) {
     const int i = participants[p], j = participants[q];
     const RigidBody& a = bodies_[i];
     const RigidBody& b = bodies_[j];
@@ -658,18 +659,15 @@ StepReport World::step(double dt_s) {
   std::vector<Eigen::AlignedBox3d> swept0(n);  // each body's swept box over the first solve's motion
   for (int i = 0; i < n; ++i) swept0[i] = swept_box(i, next0[i]);
   std::vector<int> dynamic;
-  std::vector<Eigen::AlignedBox3d> swept_dynamic;
-  for (int i = 0; i < n; ++i) {
-    if (!bodies_[i].is_dynamic()) continue;
-    dynamic.push_back(i);
-    swept_dynamic.push_back(swept0[i]);
-  }
-  for (const auto& [p, q] : collision::overlapping_pairs(swept_dynamic)) join(dynamic[p], dynamic[q]);
+  for (int i = 0; i < n; ++i)
+    if (bodies_[i].is_dynamic()) dynamic.push_back(i);
+  const std::vector<std::pair<int, int>> swept_pairs0 = collision::overlapping_pairs(swept0);
+  for (const auto& [i, j] : swept_pairs0) join(i, j);  // (joins dynamic bodies only)
   // The first CCD pass, for everything at once (the same pairs the groups would sweep):
   // most groups meet nothing and just move; only the others are stepped on their own.
   ImpactCache first_ccd;
   const std::vector<std::pair<int, int>> resting_pairs = pairs_of(resting);
-  earliest_impact(everyone, next0, &resting_pairs, nullptr, &first_ccd, nullptr, report, &swept0);
+  earliest_impact(everyone, next0, &resting_pairs, nullptr, &first_ccd, nullptr, report, &swept_pairs0);
   std::set<int> eventful;
   for (const auto& [pair, query] : first_ccd) {
     if (query.deepens || meets_inside(query.result))

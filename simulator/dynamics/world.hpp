@@ -191,11 +191,11 @@ class World {
   // `meeting`, with no time of impact). resting_pairs: body pairs with contacts at the
   // current poses (sorted); those moving less than contact_tolerance_m relative to each
   // other are checked at the end of their motion, like touching ones, not swept.
-  // swept_boxes: the participants' swept boxes, if already known.
+  // swept_pairs: the participants' pairs (by slot) whose swept boxes overlap, if already known.
   double earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                          const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting, ImpactCache* cache,
                          bool* deepening, StepReport& report,
-                         const std::vector<Eigen::AlignedBox3d>* swept_boxes = nullptr) const;
+                         const std::vector<std::pair<int, int>>* swept_pairs = nullptr) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
   // The fraction of the motions to `next` at which no touching pair in `cache` that
