@@ -12,10 +12,10 @@
 namespace arphys::collision {
 
 // World box containing the ball of `radius_m` about the body point `center_B` at every
-// t in [0, 1] of `motion` (certified: the screw path is enclosed piecewise). An
-// unbounded body (a plane) gets an infinite box.
-Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eigen::Vector3d& center_B, double radius_m,
-                                 int pieces = 8);
+// t in [0, 1] of `motion` (certified, in closed form: the screw path's arc about its
+// axis stays within its sagitta of the chord). An unbounded body (a plane) gets an
+// infinite box.
+Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eigen::Vector3d& center_B, double radius_m);
 
 // Index pairs (i < j) whose boxes overlap, sorted. Boxes may be infinite or empty; one
 // with a NaN coordinate overlaps nothing.

@@ -387,7 +387,7 @@ std::vector<geometry::Pose> World::candidate_poses(const std::vector<int>& parti
 }
 
 Eigen::AlignedBox3d World::swept_box(int body, const geometry::Pose& next) const {
-  return collision::swept_bounds(geometry::ScrewMotion(bodies_[body].X_WB, next), Eigen::Vector3d::Zero(), radius_m_[body], 4);
+  return collision::swept_bounds(geometry::ScrewMotion(bodies_[body].X_WB, next), Eigen::Vector3d::Zero(), radius_m_[body]);
 }
 
 double World::earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,

@@ -30,6 +30,36 @@ TEST(BroadPhase, SweptBoundsContainTheBallAlongTheScrew) {
   }
 }
 
+// The closed form's corner cases: a half turn (split into pieces), a screw with axial
+// travel (the path leaves the chord's box along the axis), a tiny turn about a far axis
+// (a translation, numerically), a still body; each tight to the sampled path.
+TEST(BroadPhase, SweptBoundsAreTightOnHalfTurnsScrewsAndNearTranslations) {
+  const double r = 0.1;
+  const Eigen::Vector3d c(0.3, 0, 0);
+  std::vector<geometry::ScrewMotion> motions;
+  motions.emplace_back(geometry::Pose::Identity(), geometry::rotation_pose(Eigen::Vector3d::UnitZ(), M_PI));
+  geometry::Pose screw = geometry::rotation_pose(Eigen::Vector3d::UnitZ(), 2.0);
+  screw.translation() = Eigen::Vector3d(0, 0, 0.5);
+  motions.emplace_back(geometry::Pose::Identity(), screw);
+  geometry::Pose far_turn = geometry::rotation_pose(Eigen::Vector3d::UnitY(), 1e-9);
+  far_turn.translation() = Eigen::Vector3d(0.01, 0.02, -0.03);
+  motions.emplace_back(geometry::Pose::Identity(), far_turn);
+  motions.emplace_back(far_turn, far_turn);
+  for (std::size_t m = 0; m < motions.size(); ++m) {
+    const auto box = swept_bounds(motions[m], c, r);
+    Eigen::AlignedBox3d hull;
+    for (int k = 0; k <= 1000; ++k) {
+      const Eigen::Vector3d p = motions[m].pose_at(k / 1000.0) * c;
+      ASSERT_TRUE(box.contains(Eigen::AlignedBox3d(p.array() - r, p.array() + r))) << m << " " << k;
+      hull.extend(Eigen::Vector3d(p.array() - r));
+      hull.extend(Eigen::Vector3d(p.array() + r));
+    }
+    // Within a twentieth of the path's own box (the interval enclosure it replaced was
+    // up to 1.5 times as large).
+    EXPECT_LT((box.sizes() - hull.sizes()).maxCoeff(), 0.05 * hull.sizes().maxCoeff() + 1e-9) << m;
+  }
+}
+
 std::vector<std::pair<int, int>> brute_force(const std::vector<Eigen::AlignedBox3d>& boxes) {
   std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i)
