@@ -1,7 +1,5 @@
 #include "simulator/dynamics/contact_solver.hpp"
 
-#include "simulator/dynamics/incremental_cholesky.hpp"
-
 #include <Eigen/Cholesky>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
@@ -10,6 +8,8 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+
+#include "simulator/dynamics/incremental_cholesky.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -205,12 +205,12 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
     dense.factor(A, P, ridge);
     return dense.solve(rhs);
   };
-  // Warm start: the rows the unconstrained motion would violate are, at rest, most of
-  // the active ones, and the caller's rows that pushed before most of the rest. Start
-  // from them, dropping those the equality solution pushes
-  // the wrong way until it is positive; the loop below then adds what is still
-  // violated, one row at a time. A cold start adds every one of them that way, each
-  // with a new factorisation: a pile with a thousand contact rows took a second.
+  // Warm start: at rest, most active rows are those the unconstrained motion would
+  // violate, and most of the others pushed in the caller's previous solve. Start from
+  // both, dropping those the equality solution pushes the wrong way until it is
+  // positive; the loop below then adds what is still violated, one row at a time. A
+  // cold start adds every one of them that way, one iteration each: a pile with a
+  // thousand contact rows took a second.
   // Where contacts are redundant (a bunny's sixteen points on a table) the warm start
   // spreads the impulse over all of them where the cold start picks a few; both are
   // exact for the normals, but the staggered friction solve bounds each point's
