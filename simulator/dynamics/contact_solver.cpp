@@ -133,9 +133,10 @@ constexpr int kSparseRows = 128;
 // of a face constrain three degrees of freedom). The passive block's factor follows
 // the rows joining and leaving it (IncrementalCholesky) up to kSparseRows rows; a
 // larger block is factorised sparse, afresh, each time it changes.
-// pushed_before: rows to start the warm start from besides the violated ones.
-DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool warm_start,
-                              const std::vector<char>& pushed_before) {
+// start_from: rows the active set starts from; with_violated: and every row the
+// unconstrained motion violates.
+DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool with_violated,
+                              const std::vector<char>& start_from) {
   using SparseMatrix = Eigen::SparseMatrix<double>;
   const bool sparse = q.size() > kSparseRows;
   const SparseMatrix A_sparse = sparse ? SparseMatrix(A.sparseView()) : SparseMatrix();
@@ -207,18 +208,19 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   };
   // Warm start: at rest, most active rows are those the unconstrained motion would
   // violate, and most of the others pushed in the caller's previous solve. Start from
-  // both, dropping those the equality solution pushes the wrong way until it is
+  // them, dropping those the equality solution pushes the wrong way until it is
   // positive; the loop below then adds what is still violated, one row at a time. A
   // cold start adds every one of them that way, one iteration each: a pile with a
   // thousand contact rows took a second.
-  // Where contacts are redundant (a bunny's sixteen points on a table) the warm start
-  // spreads the impulse over all of them where the cold start picks a few; both are
-  // exact for the normals, but the staggered friction solve bounds each point's
-  // friction by its normal impulse and, from the spread answer, launched bunnies of a
-  // frictional pile (300+ rad/s): frictional islands start cold.
-  if (warm_start) {
+  // Where contacts are redundant (a bunny's sixteen points on a table) starting from
+  // every violated row spreads the impulse over all of them where the one-at-a-time
+  // loop picks a few; both are exact for the normals, but the staggered friction solve
+  // bounds each point's friction by its normal impulse and, from the spread answer,
+  // launched bunnies of a frictional pile (300+ rad/s). So frictional islands start only
+  // from rows that pushed before (the loop's own earlier picks: no spreading).
+  {
     for (int i = 0; i < n; ++i)
-      if (q[i] < -tolerance || pushed_before[i]) join(i);
+      if ((with_violated && q[i] < -tolerance) || start_from[i]) join(i);
     while (!P.empty()) {
       const Eigen::VectorXd s = solve_passive();
       std::vector<std::size_t> pushing_wrong_way;
@@ -489,7 +491,12 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           const ContactRow& ri = rows[island[i]];
           q[i] = apply(J[i], ri, velocities) + ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
         }
-        DualSolution dual = solve_dual_exact(A, q, !frictional, pushed_before);
+        // Frictional islands start from the rows that pushed (in the previous step, then in
+        // the previous round), not from every violated row (see solve_dual_exact).
+        std::vector<char> start_from = pushed_before;
+        if (round > 0)
+          for (int k = 0; k < n; ++k) start_from[k] = lambda[k] > 0;
+        DualSolution dual = solve_dual_exact(A, q, !frictional, start_from);
         if (!dual.converged) {
           // Contradictory demands: keep only "do not approach" (never push apart).
           result.infeasible = true;
@@ -497,7 +504,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
             const ContactRow& ri = rows[island[i]];
             q[i] = apply(J[i], ri, velocities) + std::min(0.0, ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s);
           }
-          dual = solve_dual_exact(A, q, !frictional, pushed_before);
+          dual = solve_dual_exact(A, q, !frictional, start_from);
           if (!dual.converged) dual.lambda.setZero();  // give up on this island rather than launch it
         }
         lambda = dual.lambda;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cstdio>
 #include <stdexcept>
 
 #include "simulator/dynamics/contact_solver.hpp"
@@ -153,6 +154,25 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
   // first check finds nothing to add.
   EXPECT_GE(cold.iterations, 5);
   EXPECT_EQ(hinted.iterations, 1);
+
+  // With friction the islands start only from the hinted rows (never from every violated
+  // one, which spreads impulses over redundant points): still the same answer, in fewer
+  // iterations (the three staggered rounds each start from the last one's pushing rows).
+  for (ContactRow& row : rows) {
+    row.friction = 0.5;
+    row.pushed_before = false;
+  }
+  cold_u = u;
+  hinted_u = u;
+  const ContactSolveResult cold_friction = solve_contacts(inertia, cold_u, rows, {});
+  for (std::size_t r = 0; r < rows.size(); ++r) rows[r].pushed_before = cold_friction.normal_impulses_N_s[r] > 0;
+  const ContactSolveResult hinted_friction = solve_contacts(inertia, hinted_u, rows, {});
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LE(cold_u[k].v_WC_m_s.norm() + cold_u[k].w_W_rad_s.norm(), 1e-12) << "box " << k << " should be held";
+    EXPECT_LE((hinted_u[k].v_WC_m_s - cold_u[k].v_WC_m_s).norm(), 1e-12);
+  }
+  std::printf("frictional stack: %d iterations cold, %d hinted\n", cold_friction.iterations, hinted_friction.iterations);
+  EXPECT_LT(hinted_friction.iterations, cold_friction.iterations);
 }
 
 }  // namespace
