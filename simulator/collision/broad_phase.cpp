@@ -2,9 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
-
 #include <limits>
+#include <numeric>
 
 namespace arphys::collision {
 

@@ -219,20 +219,18 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   // bounds each point's friction by its normal impulse and, from the spread answer,
   // launched bunnies of a frictional pile (300+ rad/s). So frictional islands start only
   // from rows that pushed before (the loop's own earlier picks: no spreading).
-  {
-    for (int i = 0; i < n; ++i)
-      if ((with_violated && q[i] < -tolerance) || start_from[i]) join(i);
-    while (!P.empty()) {
-      const Eigen::VectorXd s = solve_passive();
-      std::vector<std::size_t> pushing_wrong_way;
-      for (std::size_t r = 0; r < P.size(); ++r)
-        if (!(s[r] > 0)) pushing_wrong_way.push_back(r);
-      if (pushing_wrong_way.empty()) {
-        for (std::size_t r = 0; r < P.size(); ++r) out.lambda[P[r]] = s[r];
-        break;
-      }
-      leave(pushing_wrong_way);
+  for (int i = 0; i < n; ++i)
+    if ((with_violated && q[i] < -tolerance) || start_from[i]) join(i);
+  while (!P.empty()) {
+    const Eigen::VectorXd s = solve_passive();
+    std::vector<std::size_t> pushing_wrong_way;
+    for (std::size_t r = 0; r < P.size(); ++r)
+      if (!(s[r] > 0)) pushing_wrong_way.push_back(r);
+    if (pushing_wrong_way.empty()) {
+      for (std::size_t r = 0; r < P.size(); ++r) out.lambda[P[r]] = s[r];
+      break;
     }
+    leave(pushing_wrong_way);
   }
   Eigen::VectorXd w = residual(out.lambda);
   const int max_outer = 3 * n + 20;
@@ -410,27 +408,37 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
   for (const std::vector<int>& island : islands(static_cast<int>(velocities.size()), rows)) {
     ++island_index;
     const int n = static_cast<int>(island.size());
-    // The island as keys: its rows and bodies, and the velocities it starts from.
-    SolvedIslands::Island key;
-    std::vector<int> members;  // the island's bodies (indices into velocities), as key.bodies
     // Small islands are solved again: remembering them costs about what solving them does
     // (remembering every island made a 100-box drop, where nothing meets, 30 % slower).
     constexpr int kMemoRows = 16;
     const bool remember = memo && n >= kMemoRows;
+    bool frictional = false;
+    for (int r : island) frictional |= rows[r].friction > 0;
+    // The island's bodies (indices into velocities), in order of first appearance in its
+    // rows, and the velocities they start from: the memo's key, and what the friction
+    // rounds start again from.
+    std::vector<int> members;
+    std::vector<BodyVelocity> before;
+    if (remember || frictional)
+      for (int r : island)
+        for (const int body : {rows[r].body_a, rows[r].body_b})
+          if (body >= 0 && island_stamp[body] != island_index) {
+            island_stamp[body] = island_index;
+            members.push_back(body);
+            before.push_back(velocities[body]);
+          }
+    // The island as keys: its rows and bodies, and the velocities it starts from.
+    SolvedIslands::Island key;
     if (remember) {
       const auto key_of = [&](int body) { return body < 0 ? -1 : (*body_keys)[body]; };
       for (int r : island) {
         ContactRow row = rows[r];
-        for (const int body : {row.body_a, row.body_b})
-          if (body >= 0 && std::find(members.begin(), members.end(), body) == members.end()) {
-            members.push_back(body);
-            key.bodies.push_back(key_of(body));
-            key.before.push_back(velocities[body]);
-          }
         row.body_a = key_of(row.body_a);
         row.body_b = key_of(row.body_b);
         key.rows.push_back(row);
       }
+      for (const int body : members) key.bodies.push_back(key_of(body));
+      key.before = before;
       const SolvedIslands::Island* same = nullptr;
       const auto candidates = memo->by_first_body.find(key.bodies.front());
       if (candidates != memo->by_first_body.end())
@@ -457,8 +465,6 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     result.kkt_residual_m_s = 0;
     result.infeasible = false;
     Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
-    bool frictional = false;
-    for (int r : island) frictional |= rows[r].friction > 0;
     FrictionImpulses friction;
     const bool exact = options.kind == ContactSolverKind::kExact && n <= options.max_exact_rows;
     if (options.kind == ContactSolverKind::kExact && !exact) ++result.iterative_islands;
@@ -468,23 +474,15 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       const Eigen::MatrixXd A = delassus_matrix(J, rows, island, inertia);
       std::vector<char> pushed_before(n);
       for (int k = 0; k < n; ++k) pushed_before[k] = rows[island[k]].pushed_before;
-      // The island's bodies' starting velocities, for the friction rounds to start again
-      // from (a copy of every body's, per island, was a tenth of a 1000-box pile's solve).
-      std::vector<std::pair<int, BodyVelocity>> unconstrained;
-      if (frictional)
-        for (int r : island)
-          for (const int body : {rows[r].body_a, rows[r].body_b})
-            if (body >= 0 && island_stamp[body] != island_index) {
-              island_stamp[body] = island_index;
-              unconstrained.emplace_back(body, velocities[body]);
-            }
       // Without friction one exact solve. With it, staggered: exact normals for the
       // current friction impulses, then friction sweeps with those normals held, three
       // times, ending on an exact normal solve so the constraints hold exactly.
       const int rounds = frictional ? 3 : 1;
       for (int round = 0; round < rounds; ++round) {
         if (round > 0) {
-          for (const auto& [body, velocity] : unconstrained) velocities[body] = velocity;
+          // (The island's own bodies only: a copy of every body's velocity per island was a
+          // tenth of a 1000-box pile's solve.)
+          for (std::size_t b = 0; b < members.size(); ++b) velocities[members[b]] = before[b];
           // Apply the friction impulses found so far.
           for (int k = 0; k < n; ++k) {
             const ContactRow& row = rows[island[k]];

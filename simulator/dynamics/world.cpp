@@ -74,6 +74,10 @@ bool touching_at_start(const collision::ContinuousResult& r) {
   return r.collides && !meets_inside(r);
 }
 
+// Where a contact's constraint row acts: midway between its two features' points (they
+// can be millimetres apart along the surface on a sliding pair).
+Eigen::Vector3d row_point(const collision::ManifoldPoint& feature) { return 0.5 * (feature.point_A_W + feature.point_B_W); }
+
 // The body pairs of the contacts, sorted, once each.
 std::vector<std::pair<int, int>> pairs_of(const std::vector<Contact>& contacts) {
   std::vector<std::pair<int, int>> pairs;
@@ -223,7 +227,7 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
                                          [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
     for (const auto& feature : features) {
       Contact contact{i, j, feature, 0.0};
-      const Eigen::Vector3d point_W = 0.5 * (feature.point_A_W + feature.point_B_W);
+      const Eigen::Vector3d point_W = row_point(feature);
       for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
         contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
       contacts.push_back(contact);
@@ -294,7 +298,7 @@ std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vect
     row.body_a = unknown(c.body_a);
     row.body_b = unknown(c.body_b);
     row.normal_W = c.feature.normal_W;
-    row.point_W = 0.5 * (c.feature.point_A_W + c.feature.point_B_W);
+    row.point_W = row_point(c.feature);
     if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
     if (!b.is_dynamic()) row.known_normal_velocity_m_s += row.normal_W.dot(b.velocity_of_point(row.point_W));
     const double gap = c.feature.distance_m;
@@ -639,10 +643,10 @@ StepReport World::step(double dt_s) {
   if (!(dt_s > 0) || !std::isfinite(dt_s)) throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
   StepReport report;
   const int n = static_cast<int>(bodies_.size());
-  std::vector<int> everyone(n), fixed;
+  std::vector<int> everyone(n), fixed, dynamic;
   for (int i = 0; i < n; ++i) {
     everyone[i] = i;
-    if (!bodies_[i].is_dynamic()) fixed.push_back(i);
+    (bodies_[i].is_dynamic() ? dynamic : fixed).push_back(i);
   }
   // The step's first solve, for everything at once.
   set_kinematic_state(everyone, time_s_, dt_s);
@@ -667,9 +671,6 @@ StepReport World::step(double dt_s) {
   for (const Contact& c : resting) join(c.body_a, c.body_b);
   std::vector<Eigen::AlignedBox3d> swept0(n);  // each body's swept box over the first solve's motion
   for (int i = 0; i < n; ++i) swept0[i] = swept_box(i, next0[i]);
-  std::vector<int> dynamic;
-  for (int i = 0; i < n; ++i)
-    if (bodies_[i].is_dynamic()) dynamic.push_back(i);
   const std::vector<std::pair<int, int>> swept_pairs0 = collision::overlapping_pairs(swept0);
   for (const auto& [i, j] : swept_pairs0) join(i, j);  // (joins dynamic bodies only)
   // The first CCD pass, for everything at once (the same pairs the groups would sweep):
@@ -773,7 +774,7 @@ StepReport World::step(double dt_s) {
   for (const Contact& c : contacts_)
     if (c.impulse_N_s > 0)
       pushed_before_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)},
-                                0.5 * (c.feature.point_A_W + c.feature.point_B_W)});
+                                row_point(c.feature)});
   std::sort(pushed_before_.begin(), pushed_before_.end(),
             [](const PushedPoint& x, const PushedPoint& y) { return x.bodies < y.bodies; });
   time_s_ += dt_s;

@@ -139,15 +139,22 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
         rows.push_back(row);
       }
   }
-  std::vector<BodyVelocity> cold_u = u, hinted_u = u;
-  const ContactSolveResult cold = solve_contacts(inertia, cold_u, rows, {});
-  for (std::size_t r = 0; r < rows.size(); ++r) rows[r].pushed_before = cold.normal_impulses_N_s[r] > 0;
-  const ContactSolveResult hinted = solve_contacts(inertia, hinted_u, rows, {});
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_LE(cold_u[k].v_WC_m_s.norm() + cold_u[k].w_W_rad_s.norm(), 1e-12) << "box " << k << " should be held";
-    EXPECT_LE((hinted_u[k].v_WC_m_s - cold_u[k].v_WC_m_s).norm(), 1e-12);
-    EXPECT_LE((hinted_u[k].w_W_rad_s - cold_u[k].w_W_rad_s).norm(), 1e-12);
-  }
+  // Solves cold, marks the rows that pushed, solves again from them: the boxes are held
+  // and both answers agree.
+  const auto cold_then_hinted = [&](const char* what) {
+    for (ContactRow& row : rows) row.pushed_before = false;
+    std::vector<BodyVelocity> cold_u = u, hinted_u = u;
+    const ContactSolveResult cold = solve_contacts(inertia, cold_u, rows, {});
+    for (std::size_t r = 0; r < rows.size(); ++r) rows[r].pushed_before = cold.normal_impulses_N_s[r] > 0;
+    const ContactSolveResult hinted = solve_contacts(inertia, hinted_u, rows, {});
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(cold_u[k].v_WC_m_s.norm() + cold_u[k].w_W_rad_s.norm(), 1e-12) << what << ": box " << k << " should be held";
+      EXPECT_LE((hinted_u[k].v_WC_m_s - cold_u[k].v_WC_m_s).norm(), 1e-12) << what;
+      EXPECT_LE((hinted_u[k].w_W_rad_s - cold_u[k].w_W_rad_s).norm(), 1e-12) << what;
+    }
+    return std::make_pair(cold, hinted);
+  };
+  const auto [cold, hinted] = cold_then_hinted("frictionless");
   EXPECT_LE(hinted.kkt_residual_m_s, 1e-12);
   // Cold: the four ground rows warm-start, then the rows between boxes join one per
   // iteration (two per interface here: the symmetric stack needs no more); hinted: the
@@ -158,19 +165,8 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
   // With friction the islands start only from the hinted rows (never from every violated
   // one, which spreads impulses over redundant points): still the same answer, in fewer
   // iterations (the three staggered rounds each start from the last one's pushing rows).
-  for (ContactRow& row : rows) {
-    row.friction = 0.5;
-    row.pushed_before = false;
-  }
-  cold_u = u;
-  hinted_u = u;
-  const ContactSolveResult cold_friction = solve_contacts(inertia, cold_u, rows, {});
-  for (std::size_t r = 0; r < rows.size(); ++r) rows[r].pushed_before = cold_friction.normal_impulses_N_s[r] > 0;
-  const ContactSolveResult hinted_friction = solve_contacts(inertia, hinted_u, rows, {});
-  for (int k = 0; k < 3; ++k) {
-    EXPECT_LE(cold_u[k].v_WC_m_s.norm() + cold_u[k].w_W_rad_s.norm(), 1e-12) << "box " << k << " should be held";
-    EXPECT_LE((hinted_u[k].v_WC_m_s - cold_u[k].v_WC_m_s).norm(), 1e-12);
-  }
+  for (ContactRow& row : rows) row.friction = 0.5;
+  const auto [cold_friction, hinted_friction] = cold_then_hinted("friction 0.5");
   std::printf("frictional stack: %d iterations cold, %d hinted\n", cold_friction.iterations, hinted_friction.iterations);
   EXPECT_LT(hinted_friction.iterations, cold_friction.iterations);
 }
