@@ -208,6 +208,7 @@ void describe_contact(const CollisionMesh& A, const geometry::ScrewMotion& motio
       result.normal_W = ((a[1] - a[0]).cross(a[2] - a[0])).normalized();
       break;
     }
+    case FeaturePair::kPrimitive:  // (not from meshes)
     case FeaturePair::kNone: break;
   }
 }

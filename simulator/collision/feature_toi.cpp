@@ -14,6 +14,7 @@ const char* to_string(FeaturePair kind) {
     case FeaturePair::kVertexFace: return "vertex(B)-face(A)";
     case FeaturePair::kFaceVertex: return "face(B)-vertex(A)";
     case FeaturePair::kEdgeEdge: return "edge-edge";
+    case FeaturePair::kPrimitive: return "primitive";
   }
   return "?";
 }

@@ -46,6 +46,7 @@ enum class FeaturePair {
   kVertexFace,      // vertex corner_B of triangle B meets the face of triangle A
   kFaceVertex,      // vertex corner_A of triangle A meets the face of triangle B
   kEdgeEdge,        // edge (corner_A, corner_A + 1) meets edge (corner_B, corner_B + 1)
+  kPrimitive,       // a plane's or a sphere's surface meets the other shape: point and normal, no triangles
 };
 const char* to_string(FeaturePair kind);
 

@@ -20,12 +20,16 @@ double sweep_radius(const MovingPoint& p) {
   return (p.half_width * (p.velocity.norm() + p.velocity_rad) + p.rounding) * (1 + 1e-12);
 }
 
-// A hit at t (kNoContact: none), point and normal for the caller to fill.
+// A hit at t (kNoContact: none), point and normal for the caller to fill. The kind
+// says the point and normal are a meeting's (a caller tells them from a work budget's
+// stop, which has none: a simulation made no constraint of a plane's or a sphere's
+// meetings and cut its step at each instead).
 ContinuousResult hit_at(double t) {
   ContinuousResult result;
   if (t == kNoContact) return result;
   result.collides = true;
   result.time_of_impact = t;
+  result.features.kind = FeaturePair::kPrimitive;
   return result;
 }
 

@@ -8,10 +8,13 @@
 //      restitution;
 //   4. the bodies' screw motions to their candidate poses are checked by CCD; the point
 //      where a pair meets inside the step (fixed in both bodies, with its normal)
-//      joins the constraints and 3 is solved again, up to three rounds, so the impact (with its restitution) happens in
-//      this step; if the CCD still finds a meeting (linearised constraints of a
-//      turning body), the step stops at that time of impact and continues from it, at
-//      most max_events_per_step times.
+//      joins the constraints and 3 is solved again, up to three rounds, so the impact
+//      (with its restitution) happens in this step; the point is kept out by where
+//      it ends the motion (a Newton step on its depth: a turning body's linearised
+//      constraint alone misses by micrometres); if the CCD still finds a meeting, or
+//      a bounce that this step's solve brought about (a struck body striking the
+//      next), the step stops at that time of impact and continues from it, at most
+//      max_events_per_step times.
 // Steps 1-3 are done for all bodies at once, and the CCD of 4 sweeps every pair once.
 // Then bodies that may meet within the step (in contact, or with overlapping sweeps)
 // form groups; a group where nothing meets just moves, the others go through 4 on their

@@ -69,6 +69,7 @@ TEST(ShapeQuery, BoxAndMeshOntoPlane) {
   for (const auto& v : mesh->mesh().vertices_m) lowest = std::min(lowest, v.z());
   const auto r = time_of_impact(ground, kStill, Shape::mesh(mesh), ScrewMotion(at({0, 0, 1}), at({0, 0, -1}, Eigen::Vector3d::UnitZ(), 2.0)));
   expect_toi(r, (1 + lowest) / 2);
+  EXPECT_EQ(r.features.kind, FeaturePair::kPrimitive);
 }
 
 TEST(ShapeQuery, SphereAgainstSphereBothMoving) {
@@ -79,6 +80,10 @@ TEST(ShapeQuery, SphereAgainstSphereBothMoving) {
   EXPECT_NEAR(r.point_W.x(), -0.15 + 0.1, 1e-8);
   EXPECT_NEAR(r.normal_W.x(), 1.0, 1e-9);
   EXPECT_FALSE(time_of_impact(a, kStill, b, ScrewMotion(at({1, 0.31, 0}), at({-1, 0.31, 0}))).collides);
+  // A meeting with a point and a normal (a caller makes a constraint of it), not a
+  // work budget's stop, which has neither.
+  EXPECT_EQ(r.features.kind, FeaturePair::kPrimitive);
+  EXPECT_FALSE(r.stats.budget_exhausted);
 }
 
 TEST(ShapeQuery, SphereAgainstBoxEdgeAndMeshFace) {
@@ -94,6 +99,7 @@ TEST(ShapeQuery, SphereAgainstBoxEdgeAndMeshFace) {
                                 ScrewMotion(at({0.02, 0.01, 1}), at({0.02, 0.01, -1})));
   expect_toi(r, (1 - 0.15) / 2);
   EXPECT_NEAR(r.normal_W.z(), 1.0, 1e-6);
+  EXPECT_EQ(r.features.kind, FeaturePair::kPrimitive);
 }
 
 // A box shape tests each vertex/face and edge/edge pair once (CollisionMesh's feature
