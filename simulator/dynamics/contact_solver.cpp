@@ -316,7 +316,7 @@ struct FrictionImpulses {
 
 int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& u,
                            const std::vector<ContactRow>& rows, const std::vector<int>& island, Eigen::VectorXd& lambda,
-                           int sweeps, bool normals_fixed, FrictionImpulses& friction) {
+                           int sweeps, double tolerance_m_s, bool normals_fixed, FrictionImpulses& friction) {
   const int n = static_cast<int>(island.size());
   // Each direction's Jacobian and M^-1 J^T, formed once: a sweep then updates velocities
   // with a scaled 6-vector (the 3x3 products per update were a quarter of a frictional
@@ -346,14 +346,14 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
   }
   int sweep = 0;
   for (; sweep < sweeps; ++sweep) {
-    double change = 0;
+    double change_m_s = 0;  // the largest change of a row's velocity in this sweep
     for (int k = 0; k < n; ++k) {
       const ContactRow& row = rows[island[k]];
       if (!normals_fixed && d[k] > 0) {
         const double w = apply(J[k], row, u) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
         const double next = std::max(0.0, lambda[k] - w / d[k]);
         add_weighted(WJ[k], row, next - lambda[k], u);
-        change = std::max(change, std::abs(next - lambda[k]));
+        change_m_s = std::max(change_m_s, std::abs(next - lambda[k]) * d[k]);
         lambda[k] = next;
       }
       if (row.friction > 0) {
@@ -367,12 +367,12 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
           // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
           const double next = std::clamp(f - apply(T, row, u) / dd, -bound, bound);
           add_weighted(W, row, next - f, u);
-          change = std::max(change, std::abs(next - f));
+          change_m_s = std::max(change_m_s, std::abs(next - f) * dd);
           f = next;
         }
       }
     }
-    if (change < 1e-14) break;
+    if (change_m_s <= tolerance_m_s) break;
   }
   return sweep;
 }
@@ -520,11 +520,13 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
         if (round + 1 < rounds)
           result.iterations +=
-              projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, true, friction);
+              projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
+                                     options.sweep_tolerance_m_s, true, friction);
       }
     } else {
       result.iterations +=
-          projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations, false, friction);
+          projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
+                                 options.sweep_tolerance_m_s, false, friction);
       // Report how far the iterative answer is from the KKT conditions.
       for (int k = 0; k < n; ++k) {
         const ContactRow& row = rows[island[k]];
