@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -64,17 +65,6 @@ JacobianRow mass_weighted(const JacobianRow& J, const ContactRow& row, const std
   if (row.body_a >= 0) W.a = inverse_mass_times(inertia[row.body_a], J.a);
   if (row.body_b >= 0) W.b = inverse_mass_times(inertia[row.body_b], J.b);
   return W;
-}
-
-void add_weighted(const JacobianRow& W, const ContactRow& row, double impulse, std::vector<BodyVelocity>& u) {
-  if (row.body_a >= 0) {
-    u[row.body_a].v_WC_m_s += impulse * W.a.head<3>();
-    u[row.body_a].w_W_rad_s += impulse * W.a.tail<3>();
-  }
-  if (row.body_b >= 0) {
-    u[row.body_b].v_WC_m_s += impulse * W.b.head<3>();
-    u[row.body_b].w_W_rad_s += impulse * W.b.tail<3>();
-  }
 }
 
 // The island's Delassus matrix J M^-1 J^T. Rows couple only through a body they share
@@ -317,62 +307,98 @@ struct FrictionImpulses {
 int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& u,
                            const std::vector<ContactRow>& rows, const std::vector<int>& island, Eigen::VectorXd& lambda,
                            int sweeps, double tolerance_m_s, bool normals_fixed, FrictionImpulses& friction) {
+  using Vector6d = Eigen::Matrix<double, 6, 1>;
   const int n = static_cast<int>(island.size());
-  // Each direction's Jacobian and M^-1 J^T, formed once: a sweep then updates velocities
-  // with a scaled 6-vector (the 3x3 products per update were a quarter of a frictional
-  // pile's time).
-  std::vector<JacobianRow> J(n), T1(n), T2(n), WJ(n), WT1(n), WT2(n);
-  std::vector<double> d(n), d1(n), d2(n);
+  // The island's bodies, and their velocities as contiguous 6-vectors; one more slot,
+  // always zero, stands for the non-dynamic side of a row (its Jacobian there is zero),
+  // so an update needs no branch.
+  std::vector<int> bodies;
+  for (const int r : island)
+    for (const int body : {rows[r].body_a, rows[r].body_b})
+      if (body >= 0) bodies.push_back(body);
+  std::sort(bodies.begin(), bodies.end());
+  bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+  const int absent = static_cast<int>(bodies.size());
+  const auto slot = [&](int body) {
+    return body < 0 ? absent : static_cast<int>(std::lower_bound(bodies.begin(), bodies.end(), body) - bodies.begin());
+  };
+  std::vector<Vector6d> v(bodies.size() + 1, Vector6d::Zero());
+  for (int s = 0; s < absent; ++s) v[s] << u[bodies[s]].v_WC_m_s, u[bodies[s]].w_W_rad_s;
+  // Each direction (normal, then two tangents, per row) as a sweep uses it: its slots,
+  // Jacobian and M^-1 J^T per side, formed once (a sweep's update is then a scaled
+  // 6-vector), and its own coupling J M^-1 J^T. Contiguous, without the rows' other
+  // fields: the sweeps over a frictional pile's thousands of rows are its main cost.
+  struct SweepDirection {
+    int a = 0, b = 0;
+    Vector6d Ja = Vector6d::Zero(), Jb = Vector6d::Zero(), Wa = Vector6d::Zero(), Wb = Vector6d::Zero();
+    double coupling = 0;
+  };
+  std::vector<SweepDirection> directions(3 * static_cast<std::size_t>(n));
+  std::vector<double> offset_m_s(n);  // known minus demanded normal velocity
+  const auto direction = [&](const ContactRow& row, const Eigen::Vector3d& along) {
+    SweepDirection D;
+    D.a = slot(row.body_a);
+    D.b = slot(row.body_b);
+    const JacobianRow J = jacobian(row, along, inertia);
+    const JacobianRow W = mass_weighted(J, row, inertia);
+    D.Ja = J.a;
+    D.Jb = J.b;
+    D.Wa = W.a;
+    D.Wb = W.b;
+    D.coupling = J.a.dot(W.a) + J.b.dot(W.b);
+    return D;
+  };
   std::vector<double>& f1 = friction.f1;
   std::vector<double>& f2 = friction.f2;
   f1.resize(n, 0.0);
   f2.resize(n, 0.0);
-  const auto self_coupling = [](const JacobianRow& J, const JacobianRow& W) { return J.a.dot(W.a) + J.b.dot(W.b); };
   for (int k = 0; k < n; ++k) {
     const ContactRow& row = rows[island[k]];
-    J[k] = jacobian(row, row.normal_W, inertia);
-    WJ[k] = mass_weighted(J[k], row, inertia);
-    d[k] = self_coupling(J[k], WJ[k]);
+    offset_m_s[k] = row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
+    directions[3 * k] = direction(row, row.normal_W);
     if (row.friction > 0) {
       Eigen::Vector3d t1, t2;
       tangents(row.normal_W, t1, t2);
-      T1[k] = jacobian(row, t1, inertia);
-      T2[k] = jacobian(row, t2, inertia);
-      WT1[k] = mass_weighted(T1[k], row, inertia);
-      WT2[k] = mass_weighted(T2[k], row, inertia);
-      d1[k] = self_coupling(T1[k], WT1[k]);
-      d2[k] = self_coupling(T2[k], WT2[k]);
+      directions[3 * k + 1] = direction(row, t1);
+      directions[3 * k + 2] = direction(row, t2);
     }
   }
+  // Moves impulse `value` towards `target` (clamped to [lo, hi]) along D; returns the
+  // change of D's velocity.
+  const auto update = [&](const SweepDirection& D, double& value, double target, double lo, double hi) {
+    const double next = std::clamp(target, lo, hi);
+    const double delta = next - value;
+    v[D.a] += delta * D.Wa;
+    v[D.b] += delta * D.Wb;
+    value = next;
+    return std::abs(delta) * D.coupling;
+  };
+  const auto velocity = [&](const SweepDirection& D) { return D.Ja.dot(v[D.a]) + D.Jb.dot(v[D.b]); };
+  const double inf = std::numeric_limits<double>::infinity();
   int sweep = 0;
   for (; sweep < sweeps; ++sweep) {
     double change_m_s = 0;  // the largest change of a row's velocity in this sweep
     for (int k = 0; k < n; ++k) {
-      const ContactRow& row = rows[island[k]];
-      if (!normals_fixed && d[k] > 0) {
-        const double w = apply(J[k], row, u) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
-        const double next = std::max(0.0, lambda[k] - w / d[k]);
-        add_weighted(WJ[k], row, next - lambda[k], u);
-        change_m_s = std::max(change_m_s, std::abs(next - lambda[k]) * d[k]);
-        lambda[k] = next;
-      }
-      if (row.friction > 0) {
-        const double bound = row.friction * lambda[k];
-        for (int dir = 0; dir < 2; ++dir) {
-          const JacobianRow& T = dir == 0 ? T1[k] : T2[k];
-          const JacobianRow& W = dir == 0 ? WT1[k] : WT2[k];
-          double& f = dir == 0 ? f1[k] : f2[k];
-          const double dd = dir == 0 ? d1[k] : d2[k];
-          if (!(dd > 0)) continue;
-          // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
-          const double next = std::clamp(f - apply(T, row, u) / dd, -bound, bound);
-          add_weighted(W, row, next - f, u);
-          change_m_s = std::max(change_m_s, std::abs(next - f) * dd);
-          f = next;
+      const SweepDirection& N = directions[3 * k];
+      if (!normals_fixed && N.coupling > 0)
+        change_m_s = std::max(change_m_s, update(N, lambda[k], lambda[k] - (velocity(N) + offset_m_s[k]) / N.coupling, 0.0, inf));
+      const double mu = rows[island[k]].friction;
+      if (mu > 0) {
+        // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
+        const double bound = mu * lambda[k];
+        for (int dir = 1; dir <= 2; ++dir) {
+          const SweepDirection& T = directions[3 * k + dir];
+          if (!(T.coupling > 0)) continue;
+          double& f = dir == 1 ? f1[k] : f2[k];
+          change_m_s = std::max(change_m_s, update(T, f, f - velocity(T) / T.coupling, -bound, bound));
         }
       }
     }
     if (change_m_s <= tolerance_m_s) break;
+  }
+  for (int s = 0; s < absent; ++s) {
+    u[bodies[s]].v_WC_m_s = v[s].head<3>();
+    u[bodies[s]].w_W_rad_s = v[s].tail<3>();
   }
   return sweep;
 }
