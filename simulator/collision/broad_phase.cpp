@@ -44,29 +44,79 @@ Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eige
 }
 
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes) {
+  const auto overlap = [](const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+    return a.min().x() <= b.max().x() && b.min().x() <= a.max().x() && a.min().y() <= b.max().y() &&
+           b.min().y() <= a.max().y() && a.min().z() <= b.max().z() && b.min().z() <= a.max().z();
+  };
   // A box with a NaN coordinate overlaps nothing; in the sweep it would break the order
-  // (and stop a scan early, hiding pairs).
+  // (and stop a scan early, hiding pairs). An empty one neither.
   std::vector<int> order;
   order.reserve(boxes.size());
-  for (int i = 0; i < static_cast<int>(boxes.size()); ++i)
-    if (!boxes[i].min().array().isNaN().any() && !boxes[i].max().array().isNaN().any()) order.push_back(i);
-  const int n = static_cast<int>(order.size());
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
-  // The boxes in sweep order, contiguous: each box is tested against the ones after it
-  // that start before it ends along x (in a pile, a hundred or more: the scan is the
-  // broad phase's whole cost, and indirect access through `order` doubled it).
-  std::vector<Eigen::AlignedBox3d> sorted(order.size());
-  for (int k = 0; k < n; ++k) sorted[k] = boxes[order[k]];
-  std::vector<std::pair<int, int>> pairs;
-  for (int k = 0; k < n; ++k) {
-    const Eigen::AlignedBox3d& a = sorted[k];
-    const double end_x = a.max().x();
-    for (int l = k + 1; l < n && sorted[l].min().x() <= end_x; ++l) {
-      const Eigen::AlignedBox3d& b = sorted[l];
-      if (a.min().y() <= b.max().y() && b.min().y() <= a.max().y() && a.min().z() <= b.max().z() &&
-          b.min().z() <= a.max().z())
-        pairs.emplace_back(std::min(order[k], order[l]), std::max(order[k], order[l]));
+  double extent_sum = 0;
+  for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
+    const Eigen::AlignedBox3d& box = boxes[i];
+    if (box.min().array().isNaN().any() || box.max().array().isNaN().any() || box.isEmpty()) continue;
+    order.push_back(i);
+    if (std::isfinite(box.sizes().y())) extent_sum += box.sizes().y();
+  }
+  // Sweep and prune along x within strips along y about as wide as a box: in a pile
+  // spread over the floor, a box's x interval meets hundreds of others, its strips'
+  // share of them a tenth (the plain sweep was a tenth of a 1000-box pile's step).
+  // A box is in every strip it reaches; a pair is reported in the first strip both
+  // are in. Boxes much wider than a strip (a floor, a table) are tested against all.
+  const double strip_m = std::max(extent_sum / std::max<std::size_t>(order.size(), 1), 1e-9);
+  std::vector<int> narrow, wide;
+  double y0 = std::numeric_limits<double>::infinity(), y1 = -y0;
+  for (const int i : order) {
+    const Eigen::AlignedBox3d& box = boxes[i];
+    if (std::isfinite(box.min().y()) && std::isfinite(box.max().y()) && box.sizes().y() <= 16 * strip_m) {
+      narrow.push_back(i);
+      y0 = std::min(y0, box.min().y());
+      y1 = std::max(y1, box.max().y());
+    } else {
+      wide.push_back(i);
     }
+  }
+  std::vector<std::pair<int, int>> pairs;
+  const auto report = [&](int i, int j) { pairs.emplace_back(std::min(i, j), std::max(i, j)); };
+  for (std::size_t w = 0; w < wide.size(); ++w) {
+    for (std::size_t v = w + 1; v < wide.size(); ++v)
+      if (overlap(boxes[wide[w]], boxes[wide[v]])) report(wide[w], wide[v]);
+    for (const int i : narrow)
+      if (overlap(boxes[wide[w]], boxes[i])) report(wide[w], i);
+  }
+  if (!narrow.empty()) {
+    // (Clusters far apart would make many empty strips: at most four per box.)
+    const double width = std::max(strip_m, (y1 - y0) / (4.0 * static_cast<double>(narrow.size())));
+    const auto strip = [&](double y) { return static_cast<int>((y - y0) / width); };
+    const int strips = strip(y1) + 1;
+    std::sort(narrow.begin(), narrow.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
+    // The strips' boxes, contiguous and in sweep order (a box's entries follow the
+    // x order within each strip; indirect access to the boxes doubled the scan's cost).
+    std::vector<int> start(strips + 1, 0);
+    for (const int i : narrow)
+      for (int s = strip(boxes[i].min().y()); s <= strip(boxes[i].max().y()); ++s) ++start[s + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    std::vector<Eigen::AlignedBox3d> entry_box(start.back());
+    std::vector<int> entry_index(start.back());
+    for (const int i : narrow)
+      for (int s = strip(boxes[i].min().y()); s <= strip(boxes[i].max().y()); ++s) {
+        entry_box[fill[s]] = boxes[i];
+        entry_index[fill[s]++] = i;
+      }
+    for (int s = 0; s < strips; ++s)
+      for (int k = start[s]; k < start[s + 1]; ++k) {
+        const Eigen::AlignedBox3d& a = entry_box[k];
+        const double end_x = a.max().x();
+        const int first_a = strip(a.min().y());
+        for (int l = k + 1; l < start[s + 1] && entry_box[l].min().x() <= end_x; ++l) {
+          const Eigen::AlignedBox3d& b = entry_box[l];
+          if (a.min().y() <= b.max().y() && b.min().y() <= a.max().y() && a.min().z() <= b.max().z() &&
+              b.min().z() <= a.max().z() && std::max(first_a, strip(b.min().y())) == s)
+            report(entry_index[k], entry_index[l]);
+        }
+      }
   }
   // Sorted by two counting passes (second index, then stably the first): linear in the
   // pairs, where a comparison sort of a pile's thousands of pairs cost as much as the sweep.

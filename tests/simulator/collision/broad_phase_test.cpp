@@ -110,5 +110,24 @@ TEST(BroadPhase, PileWithOddBoxesMatchesBruteForce) {
   EXPECT_GT(pairs.size(), 1000u);
 }
 
+// The sweep runs within strips along y about a box wide: boxes spanning several strips
+// (reported once), clusters a kilometre apart (strips then widen rather than number in
+// the millions), and boxes ending exactly on a strip boundary.
+TEST(BroadPhase, StripsReportEachPairOnceAcrossBoundariesAndDistantClusters) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 2), size(0.05, 0.9);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const double cluster_y : {0.0, 1000.0})
+    for (int i = 0; i < 150; ++i) {
+      const Eigen::Vector3d lo(u(rng), cluster_y + u(rng), u(rng));
+      boxes.emplace_back(lo, lo + Eigen::Vector3d(size(rng), size(rng), size(rng)));
+    }
+  for (int i = 0; i < 20; ++i)  // touching along y: each ends where the next begins
+    boxes.emplace_back(Eigen::Vector3d(5, 0.3 * i, 0), Eigen::Vector3d(5.2, 0.3 * (i + 1), 0.2));
+  const auto pairs = overlapping_pairs(boxes);
+  EXPECT_EQ(pairs, brute_force(boxes));
+  EXPECT_GT(pairs.size(), 300u);
+}
+
 }  // namespace
 }  // namespace arphys::collision
