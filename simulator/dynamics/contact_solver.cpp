@@ -403,110 +403,6 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
   return sweep;
 }
 
-// The friction impulses of an island with its normal impulses held, exactly: the
-// box-constrained problem min 1/2 f^T T f + q^T f, |f_i| <= mu lambda_i (T: the tangent
-// directions' Delassus matrix) by a primal active set from the current impulses. For
-// small islands, where Gauss-Seidel can crawl: a box on an edge has two nearly parallel
-// along-edge directions whose couple resists its twist, built up a fraction of a percent
-// per sweep. Returns the iterations, or -1 when it gives up (the caller then sweeps).
-int exact_friction(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& u, const std::vector<ContactRow>& rows,
-                   const std::vector<int>& island, const Eigen::VectorXd& lambda, FrictionImpulses& friction) {
-  const int n = static_cast<int>(island.size());
-  friction.f1.resize(n, 0.0);
-  friction.f2.resize(n, 0.0);
-  std::vector<JacobianRow> J;
-  std::vector<int> row_of, contact_of;  // per variable: its row (into rows), its contact (into island)
-  std::vector<double*> value;
-  std::vector<double> bound;
-  for (int k = 0; k < n; ++k) {
-    const ContactRow& row = rows[island[k]];
-    if (row.friction <= 0) continue;
-    Eigen::Vector3d t[2];
-    tangents(row.normal_W, t[0], t[1]);
-    for (int dir = 0; dir < 2; ++dir) {
-      J.push_back(jacobian(row, t[dir], inertia));
-      row_of.push_back(island[k]);
-      contact_of.push_back(k);
-      value.push_back(dir == 0 ? &friction.f1[k] : &friction.f2[k]);
-      bound.push_back(row.friction * std::max(0.0, lambda[k]));
-    }
-  }
-  const int m = static_cast<int>(J.size());
-  const Eigen::MatrixXd T = delassus_matrix(J, rows, row_of, inertia);
-  Eigen::VectorXd x(m), w(m);  // impulses, and the directions' velocities now
-  for (int i = 0; i < m; ++i) {
-    x[i] = *value[i];
-    w[i] = apply(J[i], rows[row_of[i]], u);
-  }
-  const Eigen::VectorXd start = x;
-  const Eigen::VectorXd q = w - T * x;  // velocities at zero friction
-  const double ridge = std::max(1e-300, 1e-12 * T.diagonal().maxCoeff());
-  const double tolerance = 1e-9;  // m/s
-  // A variable is free (between its bounds) or held at one of them.
-  std::vector<char> held(m, 0);
-  for (int i = 0; i < m; ++i) {
-    x[i] = std::clamp(x[i], -bound[i], bound[i]);
-    held[i] = bound[i] <= 0 || std::abs(x[i]) >= bound[i];
-  }
-  int iterations = 0;
-  for (; iterations < 4 * m + 20; ++iterations) {
-    std::vector<int> F;
-    for (int i = 0; i < m; ++i)
-      if (!held[i]) F.push_back(i);
-    Eigen::VectorXd target = x;
-    if (!F.empty()) {
-      const int f = static_cast<int>(F.size());
-      Eigen::MatrixXd TFF(f, f);
-      Eigen::VectorXd rhs(f);
-      for (int r = 0; r < f; ++r) {
-        rhs[r] = -q[F[r]];
-        for (int c = 0; c < m; ++c)
-          if (held[c]) rhs[r] -= T(F[r], c) * x[c];
-        for (int c = 0; c < f; ++c) TFF(r, c) = T(F[r], F[c]) + (r == c ? ridge : 0.0);
-      }
-      const Eigen::VectorXd xF = TFF.ldlt().solve(rhs);
-      if (!xF.allFinite()) return -1;
-      for (int r = 0; r < f; ++r) target[F[r]] = xF[r];
-    }
-    // Step towards the free variables' solution until one reaches a bound.
-    double alpha = 1;
-    int blocking = -1;
-    for (const int i : F) {
-      if (target[i] > bound[i] && target[i] != x[i]) {
-        const double a = (bound[i] - x[i]) / (target[i] - x[i]);
-        if (a < alpha) alpha = a, blocking = i;
-      } else if (target[i] < -bound[i] && target[i] != x[i]) {
-        const double a = (-bound[i] - x[i]) / (target[i] - x[i]);
-        if (a < alpha) alpha = a, blocking = i;
-      }
-    }
-    for (const int i : F) x[i] = std::clamp(x[i] + std::max(0.0, alpha) * (target[i] - x[i]), -bound[i], bound[i]);
-    if (blocking >= 0) {
-      held[blocking] = 1;
-      continue;
-    }
-    // Optimal over the free set: release the held variable whose velocity most wants it
-    // back inside (at +bound a positive velocity, at -bound a negative one: the impulse
-    // opposes it too much).
-    const Eigen::VectorXd velocity = T * x + q;
-    int release = -1;
-    double worst = tolerance;
-    for (int i = 0; i < m; ++i) {
-      if (!held[i] || bound[i] <= 0) continue;
-      const double wrong = x[i] >= bound[i] ? velocity[i] : x[i] <= -bound[i] ? -velocity[i] : std::abs(velocity[i]);
-      if (wrong > worst) worst = wrong, release = i;
-    }
-    if (release < 0) break;
-    held[release] = 0;
-  }
-  if (iterations >= 4 * m + 20) return -1;
-  for (int i = 0; i < m; ++i) {
-    add_impulse(J[i], rows[row_of[i]], inertia, x[i] - start[i], u);
-    *value[i] = x[i];
-  }
-  return iterations + 1;
-}
-
 bool same_row(const ContactRow& a, const ContactRow& b) {
   return a.body_a == b.body_a && a.body_b == b.body_b && a.point_W == b.point_W && a.normal_W == b.normal_W &&
          a.min_normal_velocity_m_s == b.min_normal_velocity_m_s &&
@@ -648,13 +544,10 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
         result.iterations += dual.iterations;
         for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
-        if (round + 1 < rounds) {
-          const int exact_iterations =
-              n <= options.exact_friction_rows ? exact_friction(inertia, velocities, rows, island, lambda, friction) : -1;
-          result.iterations += exact_iterations >= 0 ? exact_iterations
-                                                     : projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
-                                                                              options.sweep_tolerance_m_s, true, friction);
-        }
+        if (round + 1 < rounds)
+          result.iterations +=
+              projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
+                                     options.sweep_tolerance_m_s, true, friction);
       }
     } else {
       result.iterations +=

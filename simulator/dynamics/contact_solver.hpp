@@ -51,12 +51,6 @@ struct ContactSolverOptions {
   // nanometre per millisecond step), and a frictional pile's columns spent a sixth of
   // their time on them.
   double sweep_tolerance_m_s = 1e-6;
-  // Under kExact, islands of at most this many rows solve their friction (normals held)
-  // exactly, as a box-constrained QP by active set, instead of by sweeps: a box on an edge
-  // resists its twist with a couple of nearly parallel along-edge rows, which sweeps build up
-  // a fraction of a percent at a time. Larger islands sweep (a dense solve per change costs
-  // more there than the sweeps). 0: always sweep.
-  int exact_friction_rows = 8;
   // Islands with more contact rows than this are solved iteratively even under kExact
   // (counted in ContactSolveResult::iterative_islands; their KKT residual is reported):
   // the dense active-set solve costs about rows^3 per factorisation and a pile of a

@@ -212,42 +212,5 @@ TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
   }
 }
 
-// A box landing on an edge while sliding across it (its friction across the edge at its
-// bound) and twisting: only the two nearly parallel along-edge rows can stop the twist, with
-// a couple on a 2 cm lever arm. The exact friction solve of a small island finds it in a few
-// active-set steps and agrees with sweeping to convergence (in the 1000-box pile such
-// islands ran into the 50-sweep cap; alone, as here, the sweeps get close too).
-TEST(ContactSolver, SmallIslandFrictionIsSolvedExactlyAndAgreesWithConvergedSweeps) {
-  std::vector<BodyInertia> inertia{unit_box({0.01, 0.0, 0.14})};
-  std::vector<BodyVelocity> u(1);
-  u[0].v_WC_m_s = {0.5, 0.0, -0.6};
-  u[0].w_W_rad_s = {0.0, 0.0, 0.3};
-  std::vector<ContactRow> rows{on_ground(0, {0.0, -0.1, 0.0}), on_ground(0, {0.02, 0.1, 0.0})};
-  for (ContactRow& row : rows) row.friction = 0.5;
-  const auto solved = [&](const ContactSolverOptions& options) {
-    std::vector<BodyVelocity> v = u;
-    const ContactSolveResult result = solve_contacts(inertia, v, rows, options);
-    return std::make_pair(v[0], result.iterations);
-  };
-  ContactSolverOptions converged;
-  converged.exact_friction_rows = 0;
-  converged.iterations = 200000;
-  converged.sweep_tolerance_m_s = 0;
-  ContactSolverOptions sweeps;
-  sweeps.exact_friction_rows = 0;
-  const BodyVelocity reference = solved(converged).first;
-  const auto [swept, swept_iterations] = solved(sweeps);
-  const auto [exact, exact_iterations] = solved({});
-  const auto distance = [](const BodyVelocity& a, const BodyVelocity& b) {
-    return (a.v_WC_m_s - b.v_WC_m_s).norm() + 0.1 * (a.w_W_rad_s - b.w_W_rad_s).norm();
-  };
-  std::printf("exact friction: %d iterations, %.2g m/s from the converged sweeps; sweeps (%d iterations): %.2g m/s\n",
-              exact_iterations, distance(exact, reference), swept_iterations, distance(swept, reference));
-  EXPECT_LE(distance(exact, reference), 1e-9);
-  EXPECT_LE(distance(swept, reference), 1e-5);
-  EXPECT_LT(exact_iterations, swept_iterations);
-  EXPECT_GT((exact.v_WC_m_s - u[0].v_WC_m_s).head<2>().norm(), 0.1);  // friction did act
-}
-
 }  // namespace
 }  // namespace arphys::dynamics
