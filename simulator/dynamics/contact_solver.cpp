@@ -381,7 +381,8 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
     for (int k = 0; k < n; ++k) {
       const SweepDirection& N = directions[3 * k];
       if (!normals_fixed && N.coupling > 0)
-        change_m_s = std::max(change_m_s, update(N, lambda[k], lambda[k] - (velocity(N) + offset_m_s[k]) / N.coupling, 0.0, inf));
+        change_m_s =
+            std::max(change_m_s, update(N, lambda[k], lambda[k] - (velocity(N) + offset_m_s[k]) / N.coupling, 0.0, inf));
       const double mu = rows[island[k]].friction;
       if (mu > 0) {
         // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.

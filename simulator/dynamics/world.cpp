@@ -605,8 +605,10 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           // bound misses it by the turn's second-order term, micrometres in a
           // collapsing pile: re-solved with the same bound, such a pair met again in
           // every round and cut the step).
-          const double end_depth_m = hit.end_depth_m >= 0 ? hit.end_depth_m
-                                                           : (X_A_end.linear() * hit.normal_A_B).dot(X_A_end * hit.point_A_B - X_B_end * hit.point_B_B);
+          const double end_depth_m =
+              hit.end_depth_m >= 0
+                  ? hit.end_depth_m
+                  : (X_A_end.linear() * hit.normal_A_B).dot(X_A_end * hit.point_A_B - X_B_end * hit.point_B_B);
           // The point's normal velocity in the motion that let it in, and what lifts it out.
           const auto velocity = [&](int body, const Eigen::Vector3d& p_W) -> Eigen::Vector3d {
             const RigidBody& b = bodies_[body];
@@ -632,7 +634,8 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           // pile (restitution 0.3) every solve changes approaches a little, and cutting
           // at each made it 40 % slower.
           const double restitution = std::max(bodies_[pair.first].restitution, bodies_[pair.second].restitution);
-          const double v_n_start = n.dot(bodies_[pair.second].velocity_of_point(m) - bodies_[pair.first].velocity_of_point(m));
+          const double v_n_start =
+              n.dot(bodies_[pair.second].velocity_of_point(m) - bodies_[pair.first].velocity_of_point(m));
           const double missed_bounce_m_s =
               restitution * (std::abs(v_n - v_n_start) - options_.gravity_m_s2.norm() * force_h);
           chained |= hit.end_depth_m < 0 && v_n < -options_.restitution_threshold_m_s &&
