@@ -633,13 +633,14 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           // the approach the solve added, beyond gravity's over the step): in a bunny
           // pile (restitution 0.3) every solve changes approaches a little, and cutting
           // at each made it 40 % slower.
-          const double restitution = std::max(bodies_[pair.first].restitution, bodies_[pair.second].restitution);
-          const double v_n_start =
-              n.dot(bodies_[pair.second].velocity_of_point(m) - bodies_[pair.first].velocity_of_point(m));
-          const double missed_bounce_m_s =
-              restitution * (std::abs(v_n - v_n_start) - options_.gravity_m_s2.norm() * force_h);
-          chained |= hit.end_depth_m < 0 && v_n < -options_.restitution_threshold_m_s &&
-                     missed_bounce_m_s > options_.restitution_threshold_m_s;
+          if (hit.end_depth_m < 0 && v_n < -options_.restitution_threshold_m_s) {
+            const double restitution = std::max(bodies_[pair.first].restitution, bodies_[pair.second].restitution);
+            const double v_n_start =
+                n.dot(bodies_[pair.second].velocity_of_point(m) - bodies_[pair.first].velocity_of_point(m));
+            const double missed_bounce_m_s =
+                restitution * (std::abs(v_n - v_n_start) - options_.gravity_m_s2.norm() * force_h);
+            chained |= missed_bounce_m_s > options_.restitution_threshold_m_s;
+          }
         }
         impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
       }
