@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 
 #include "configs/loader/config_error.hpp"
@@ -33,14 +34,16 @@ TEST(CameraConfig, ExampleWebcamHasDistortion) {
 std::string error_of(const std::string& body) {
   const std::string path = ::testing::TempDir() + "camera_" + std::to_string(std::hash<std::string>{}(body)) + ".yaml";
   std::ofstream(path) << "%YAML:1.0\n---\n" << body;
+  std::string message;
   try {
     load_camera(path);
+    ADD_FAILURE() << "camera loaded";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.file(), path);
-    return e.what();
+    message = e.what();
   }
-  ADD_FAILURE() << "camera loaded";
-  return "";
+  std::remove(path.c_str());  // one name per body: it would otherwise pile up in TempDir
+  return message;
 }
 
 const char* kMatrix = "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n   data: [ %s ]\n";

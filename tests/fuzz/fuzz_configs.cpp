@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "configs/loader/camera_config.hpp"
@@ -13,7 +14,12 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;
-  static const std::string path = "/tmp/arphys_fuzz_config_" + std::to_string(getpid()) + ".yaml";
+  // One file per fuzzing process, removed when it exits (runs would otherwise pile them up).
+  static const std::string path = [] {
+    static std::string name = "/tmp/arphys_fuzz_config_" + std::to_string(getpid()) + ".yaml";
+    std::atexit([] { std::remove(name.c_str()); });
+    return name;
+  }();
   FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) return 0;
   std::fwrite(data + 1, 1, size - 1, f);

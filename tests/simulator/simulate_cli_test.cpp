@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -16,9 +17,9 @@ std::string run(const std::string& args, int* exit_code) {
   const std::string err = ::testing::TempDir() + "simulate_cli_err_" + std::to_string(getpid()) + ".txt";
   const std::string command = std::string(ARPHYS_BINARY_DIR) + "/simulator/simulate/simulate " + args + " 2> " + err;
   *exit_code = WEXITSTATUS(std::system(command.c_str()));
-  std::ifstream in(err);
   std::stringstream text;
-  text << in.rdbuf();
+  text << std::ifstream(err).rdbuf();
+  std::remove(err.c_str());  // per-process name: it would otherwise pile up in TempDir
   return text.str();
 }
 
