@@ -112,8 +112,8 @@ struct DualSolution {
   bool converged = true;
 };
 
-// Above this many rows the active set's passive block is factorised sparse (in a
-// fill-reducing order) and the dual residual computed with the sparse matrix: a pile's
+// Above this many rows the active set's passive block is factorised sparse (in the
+// order a fill-reducing order of the whole island induces on it) and the dual residual computed with the sparse matrix: a pile's
 // island of 600 rows took 20-30 ms per dense factorisation, one per added row; its
 // Delassus matrix has a few dozen non-zeros per row. Below it, dense is faster.
 constexpr int kSparseRows = 128;
@@ -165,6 +165,7 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
     }
   };
   std::vector<int> local(q.size(), -1);  // a row's place in the passive block
+  std::vector<int> rank;                 // a row's place in the island's elimination order (sparse only)
   // The equality problem on the passive rows (with the ridge), by position in P.
   const auto solve_passive = [&]() -> Eigen::VectorXd {
     const int m = static_cast<int>(P.size());
@@ -177,21 +178,40 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
       }
       return factor.solve(rhs);
     }
-    for (int r = 0; r < m; ++r) local[P[r]] = r;
+    if (rank.empty()) {
+      // The island's fill-reducing order, found once: each passive block is factorised
+      // in the order it induces (an elimination order per block, found afresh for each
+      // of a pile's thousands of factorisations, cost more than the factorisations).
+      Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> elimination;
+      Eigen::AMDOrdering<int>()(A_sparse, elimination);
+      rank.resize(n);
+      for (int k = 0; k < n; ++k) rank[elimination.indices()[k]] = k;
+    }
+    std::vector<int> order(m);  // positions in P, in elimination order
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int x, int y) { return rank[P[x]] < rank[P[y]]; });
+    for (int k = 0; k < m; ++k) local[P[order[k]]] = k;
     std::vector<Eigen::Triplet<double>> entries;
     for (int c = 0; c < m; ++c)
       for (SparseMatrix::InnerIterator it(A_sparse, P[c]); it; ++it)
-        if (local[it.row()] >= 0) entries.emplace_back(local[it.row()], c, it.value() + (it.row() == P[c] ? ridge : 0.0));
+        if (local[it.row()] >= 0)
+          entries.emplace_back(local[it.row()], local[P[c]], it.value() + (it.row() == P[c] ? ridge : 0.0));
     for (int r = 0; r < m; ++r) local[P[r]] = -1;
     SparseMatrix App(m, m);
     App.setFromTriplets(entries.begin(), entries.end());
-    const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt(App);
+    const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt(App);
     if (ldlt.info() == Eigen::Success) {
       // Without pivoting the ridge-regularised block can lose digits: refined once and
       // checked against the block itself, else solved dense.
-      Eigen::VectorXd s = ldlt.solve(rhs);
-      s += ldlt.solve(rhs - App * s);
-      if (s.allFinite() && (App * s - rhs).norm() <= 1e-9 * (rhs.norm() + 1e-300)) return s;
+      Eigen::VectorXd rhs_ordered(m);
+      for (int k = 0; k < m; ++k) rhs_ordered[k] = rhs[order[k]];
+      Eigen::VectorXd s_ordered = ldlt.solve(rhs_ordered);
+      s_ordered += ldlt.solve(rhs_ordered - App * s_ordered);
+      if (s_ordered.allFinite() && (App * s_ordered - rhs_ordered).norm() <= 1e-9 * (rhs.norm() + 1e-300)) {
+        Eigen::VectorXd s(m);
+        for (int k = 0; k < m; ++k) s[order[k]] = s_ordered[k];
+        return s;
+      }
     }
     IncrementalCholesky dense;
     dense.factor(A, P, ridge);
