@@ -113,9 +113,10 @@ struct DualSolution {
 };
 
 // Above this many rows the active set's passive block is factorised sparse (in the
-// order a fill-reducing order of the whole island induces on it) and the dual residual computed with the sparse matrix: a pile's
-// island of 600 rows took 20-30 ms per dense factorisation, one per added row; its
-// Delassus matrix has a few dozen non-zeros per row. Below it, dense is faster.
+// order a fill-reducing order of the whole island induces on it) and the dual residual
+// computed with the sparse matrix: a pile's island of 600 rows took 20-30 ms per dense
+// factorisation, one per added row; its Delassus matrix has a few dozen non-zeros per
+// row. Below it, dense is faster.
 constexpr int kSparseRows = 128;
 
 // min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
