@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -198,11 +199,75 @@ void run_push(const std::vector<std::string>& engines, Csv& csv) {
       }
 }
 
-void run_drop(const std::vector<std::string>& all, const std::vector<int>& counts, double duration, Csv& csv) {
+// One run of the drop scene on one engine. Run 0 is the seeded grid as it is; a further
+// run perturbs the boxes' start velocities by up to 8 um/s (seeded by the run).
+struct DropRun {
+  std::string error;  // the engine could not build the scene
+  double median_ms = 0, mean_ms = 0, deepest_m = 0, final_penetration_m = 0, overlap_m = 0;
+  long steps = 0, done = 0;
+};
+
+DropRun drop_once(const std::string& e, int n, double mu, double duration, int run) {
+  BenchScene scene;
+  scene.bodies.push_back(plane(mu));
+  // splitmix64 seed 12345, as the scene files and the anchor.
+  uint64_t state = 12345;
+  auto next = [&] {
+    uint64_t z = (state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
+  };
+  for (int i = 0; i < n; ++i) {
+    const int layer = i / 100, gx = i % 10, gy = (i % 100) / 10;
+    BenchBody b = box_at({(gx - 4.5) * 0.35, (gy - 4.5) * 0.35, 0.2 + 0.35 * layer}, mu);
+    const Eigen::Vector3d axis(2 * next() - 1, 2 * next() - 1, 2 * next() - 1);
+    const double angle = 0.3 * next();
+    if (axis.norm() > 0) b.X_WB.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+    if (run > 0) b.v_m_s.x() += 1e-6 * ((i * 7919 + run * 104729) % 17 - 8);
+    scene.bodies.push_back(b);
+  }
+  DropRun out;
+  auto engine = make_engine(e);
+  try {
+    engine->build(scene, 1e-3);
+  } catch (const std::exception& ex) {
+    out.error = ex.what();
+    return out;
+  }
+  std::vector<double> ms;
+  out.steps = std::lround(duration / 1e-3);
+  const auto run_start = Clock::now();
+  // A wall-clock cap: an engine that crawls is reported with the time it covered.
+  for (long s = 0; s < out.steps && std::chrono::duration<double>(Clock::now() - run_start).count() < kWallCap_s;
+       ++s, ++out.done) {
+    const auto t0 = Clock::now();
+    engine->step();
+    ms.push_back(1e3 * std::chrono::duration<double>(Clock::now() - t0).count());
+    if (s % 10 == 9 || s + 1 == out.steps) {
+      out.final_penetration_m = 0;
+      for (int i = 1; i <= n; ++i)
+        out.final_penetration_m = std::max(out.final_penetration_m, corner_penetration(engine->pose(i), {0.1, 0.1, 0.1}));
+      out.deepest_m = std::max(out.deepest_m, out.final_penetration_m);
+      std::vector<Eigen::Isometry3d> poses;
+      for (int i = 1; i <= n; ++i) poses.push_back(engine->pose(i));
+      out.overlap_m = std::max(out.overlap_m, box_overlap(poses, {0.1, 0.1, 0.1}));
+    }
+  }
+  out.median_ms = median(ms);
+  out.mean_ms = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
+  return out;
+}
+
+void run_drop(const std::vector<std::string>& all, const std::vector<int>& counts, double duration, int runs, Csv& csv,
+              const std::string& runs_csv_path) {
   // Median and mean ms per step: a pile's steps range over two orders of magnitude (quiet
   // steps, then the busy collapse), and its median moves with the trajectory, which is chaotic.
   std::printf("\n== drop: N boxes on a plane, dt 1 ms, %.1f s\n%-18s %5s %5s %10s %10s %16s %10s %14s\n", duration, "engine",
               "N", "mu", "ms/step", "mean_ms", "max_pen_mm", "final_pen_mm", "box_overlap_mm");
+  // The pile (N = 1000) again with perturbed starts, on arphys and ODE quickstep (the
+  // issue's target): medians by run, for a ratio that is not one trajectory's luck.
+  std::map<std::pair<std::string, double>, std::vector<double>> pile_medians;
   for (int n : counts)
     for (double mu : {0.0, 0.5}) {
       // At N = 1000 the slowest variants (MuJoCo PGS and CG, 10 to 70 ms per step in the
@@ -211,58 +276,44 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
       for (const auto& e : all)
         if (n < 1000 || (e != "mujoco-pgs" && e != "mujoco-cg")) engines.push_back(e);
       for (const std::string& e : engines) {
-        BenchScene scene;
-        scene.bodies.push_back(plane(mu));
-        // splitmix64 seed 12345, as the scene files and the anchor.
-        uint64_t state = 12345;
-        auto next = [&] {
-          uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-          z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-          z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-          return static_cast<double>((z ^ (z >> 31)) >> 11) * (1.0 / 9007199254740992.0);
-        };
-        for (int i = 0; i < n; ++i) {
-          const int layer = i / 100, gx = i % 10, gy = (i % 100) / 10;
-          BenchBody b = box_at({(gx - 4.5) * 0.35, (gy - 4.5) * 0.35, 0.2 + 0.35 * layer}, mu);
-          const Eigen::Vector3d axis(2 * next() - 1, 2 * next() - 1, 2 * next() - 1);
-          const double angle = 0.3 * next();
-          if (axis.norm() > 0) b.X_WB.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-          scene.bodies.push_back(b);
-        }
-        auto engine = make_engine(e);
-        try {
-          engine->build(scene, 1e-3);
-        } catch (const std::exception& ex) {
-          std::printf("%-18s %5d %5.1f  could not build: %s\n", e.c_str(), n, mu, ex.what());
+        const DropRun r = drop_once(e, n, mu, duration, 0);
+        if (!r.error.empty()) {
+          std::printf("%-18s %5d %5.1f  could not build: %s\n", e.c_str(), n, mu, r.error.c_str());
           continue;
         }
-        std::vector<double> ms;
-        double deepest = 0, final_pen = 0, overlap = 0;
-        const long steps = std::lround(duration / 1e-3);
-        const auto run_start = Clock::now();
-        long done = 0;
-        // A wall-clock cap: an engine that crawls is reported with the time it covered.
-        for (long s = 0; s < steps && std::chrono::duration<double>(Clock::now() - run_start).count() < kWallCap_s; ++s, ++done) {
-          const auto t0 = Clock::now();
-          engine->step();
-          ms.push_back(1e3 * std::chrono::duration<double>(Clock::now() - t0).count());
-          if (s % 10 == 9 || s + 1 == steps) {
-            final_pen = 0;
-            for (int i = 1; i <= n; ++i) final_pen = std::max(final_pen, corner_penetration(engine->pose(i), {0.1, 0.1, 0.1}));
-            deepest = std::max(deepest, final_pen);
-            std::vector<Eigen::Isometry3d> poses;
-            for (int i = 1; i <= n; ++i) poses.push_back(engine->pose(i));
-            overlap = std::max(overlap, box_overlap(poses, {0.1, 0.1, 0.1}));
-          }
-        }
-        const double mean_ms = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
-        std::printf("%-18s %5d %5.1f %10.3f %10.3f %16.4f %10.4f %14.4f%s\n", e.c_str(), n, mu, median(ms), mean_ms, 1e3 * deepest,
-                    1e3 * final_pen, 1e3 * overlap, done < steps ? ("  (wall-clock cap: " + std::to_string(done * 1e-3) + " s simulated)").c_str() : "");
-        csv.out << e << "," << n << "," << mu << "," << median(ms) << "," << 1e3 * deepest << "," << 1e3 * final_pen << ","
-                << done * 1e-3 << "," << 1e3 * overlap << "," << mean_ms << "\n";
+        std::printf("%-18s %5d %5.1f %10.3f %10.3f %16.4f %10.4f %14.4f%s\n", e.c_str(), n, mu, r.median_ms, r.mean_ms,
+                    1e3 * r.deepest_m, 1e3 * r.final_penetration_m, 1e3 * r.overlap_m,
+                    r.done < r.steps ? ("  (wall-clock cap: " + std::to_string(r.done * 1e-3) + " s simulated)").c_str() : "");
+        csv.out << e << "," << n << "," << mu << "," << r.median_ms << "," << 1e3 * r.deepest_m << ","
+                << 1e3 * r.final_penetration_m << "," << r.done * 1e-3 << "," << 1e3 * r.overlap_m << "," << r.mean_ms << "\n";
         std::fflush(stdout);
+        if (n >= 1000 && (e == "arphys" || e == "ode-quick")) pile_medians[{e, mu}].push_back(r.median_ms);
       }
     }
+  if (pile_medians.empty() || runs < 2) return;
+  Csv runs_csv(runs_csv_path, "engine,n,mu,run,median_ms_per_step");
+  std::printf("\n== drop, N = 1000, %d runs (the first as above, then start velocities perturbed by up to 8 um/s)\n"
+              "%-18s %5s %10s %s\n", runs, "engine", "mu", "mean of medians", "medians by run");
+  for (auto& [key, medians] : pile_medians) {
+    for (int run = 1; run < runs; ++run) {
+      const DropRun r = drop_once(key.first, 1000, key.second, duration, run);
+      if (r.error.empty()) medians.push_back(r.median_ms);
+    }
+    std::string by_run;
+    for (std::size_t run = 0; run < medians.size(); ++run) {
+      by_run += (run ? " " : "") + std::to_string(medians[run]).substr(0, 6);
+      runs_csv.out << key.first << ",1000," << key.second << "," << run << "," << medians[run] << "\n";
+    }
+    const double mean = std::accumulate(medians.begin(), medians.end(), 0.0) / static_cast<double>(medians.size());
+    std::printf("%-18s %5.1f %10.3f      %s\n", key.first.c_str(), key.second, mean, by_run.c_str());
+    std::fflush(stdout);
+  }
+  for (double mu : {0.0, 0.5}) {
+    const auto ours = pile_medians.find({"arphys", mu}), theirs = pile_medians.find({"ode-quick", mu});
+    if (ours == pile_medians.end() || theirs == pile_medians.end()) continue;
+    const auto mean = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); };
+    std::printf("arphys / ode-quick, mu %.1f: %.1fx (mean of the runs' medians)\n", mu, mean(ours->second) / mean(theirs->second));
+  }
 }
 
 void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv) {
@@ -314,7 +365,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   std::vector<int> drop_counts{10, 100, 1000};
   double drop_seconds = 1.0, stack_seconds = 0;
-  int bunny_runs = 0;
+  int bunny_runs = 0, pile_runs = 3;
   std::vector<double> stack_dts{1e-3, 1e-2};
   app.add_option("--scenes", scenes, "scenes to run")->delimiter(',');
   app.add_option("--engines", engines, "engines to run")->delimiter(',');
@@ -324,6 +375,10 @@ int main(int argc, char** argv) {
   app.add_option("--drop-seconds", drop_seconds, "drop scene: simulated seconds");
   app.add_option("--stack-dts", stack_dts, "stack scene: time steps, seconds")->delimiter(',')->capture_default_str();
   app.add_option("--stack-seconds", stack_seconds, "stack scene: simulated seconds (default 60, --quick 2)");
+  app.add_option("--pile-runs", pile_runs,
+                 "drop scene, N = 1000: runs on arphys and ODE quickstep, the first as shipped, the others with perturbed "
+                 "start velocities")
+      ->capture_default_str();
   app.add_option("--bunny-runs", bunny_runs,
                  "bunnies scene: runs, the first as shipped, the others with perturbed start velocities (default 3, --quick 1)");
   CLI11_PARSE(app, argc, argv);
@@ -341,7 +396,8 @@ int main(int argc, char** argv) {
       run_push(engines, csv);
     } else if (scene == "drop") {
       Csv csv(out + "/dyn_drop.csv", "engine,n,mu,median_ms_per_step,max_penetration_mm,final_penetration_mm,simulated_s,max_box_overlap_mm,mean_ms_per_step");
-      run_drop(engines, quick ? std::vector<int>{10, 100} : drop_counts, quick ? 0.3 : drop_seconds, csv);
+      run_drop(engines, quick ? std::vector<int>{10, 100} : drop_counts, quick ? 0.3 : drop_seconds, pile_runs, csv,
+               out + "/dyn_drop_pile_runs.csv");
     } else if (scene == "bunnies") {
       Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run");
       run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, bunny_runs > 0 ? bunny_runs : (quick ? 1 : 3), csv);
