@@ -120,9 +120,10 @@ class SimulatorCore {
 
  private:
   void reject(const std::string& reason);
-  // Adds a virtual dynamic instance of object, or returns why not (limits, overlap).
+  // Adds a virtual dynamic instance of object, or returns why not (limits, overlap; a
+  // resumed body may touch or overlap others as it did before the restart).
   std::string add_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,
-                           const Eigen::Vector3d& v_WB_m_s, const Eigen::Vector3d& w_WB_rad_s);
+                           const Eigen::Vector3d& v_WB_m_s, const Eigen::Vector3d& w_WB_rad_s, bool resumed = false);
   void reset();
   void update_kinematic(double t0, double t1);
 

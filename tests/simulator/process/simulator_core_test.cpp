@@ -160,16 +160,38 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   unknown.model = "teapot";
   RecoveredBody twin = saved.back();  // on top of bunny#3
   twin.body_id = "bunny#9";
+  // Touching bunny#3 as bunnies at rest do: 0.1 mm into it along x (where a shift along x
+  // stops their meshes intersecting, found by bisection). A spawn there would be refused;
+  // a resumed body was there in the world before the restart and comes back.
+  const dynamics::RigidBody& third = before.world().bodies()[before.world().find("bunny#3")];
+  const collision::CollisionMesh& mesh = *third.shape.triangles();
+  const auto shifted = [&](double x_m) {
+    geometry::Pose X = third.X_WB;
+    X.translation().x() += x_m;
+    return X;
+  };
+  double inside_m = 0, clear_m = 0.5;
+  ASSERT_FALSE(collision::intersects(mesh, third.X_WB, mesh, shifted(clear_m)));
+  for (int k = 0; k < 40; ++k) {
+    const double mid = 0.5 * (inside_m + clear_m);
+    (collision::intersects(mesh, third.X_WB, mesh, shifted(mid)) ? inside_m : clear_m) = mid;
+  }
+  RecoveredBody neighbour = saved.back();
+  neighbour.body_id = "bunny#8";
+  neighbour.X_WB = shifted(clear_m - 1e-4);
+  ASSERT_TRUE(collision::intersects(mesh, third.X_WB, mesh, neighbour.X_WB));
   std::vector<RecoveredBody> file = saved;
   file.push_back(unknown);
   file.push_back(twin);
+  file.push_back(neighbour);
 
   SimulatorCore after(scene, {});
   const RecoveryReport report = after.recover(file);
-  EXPECT_EQ(report.recovered, 4);
+  EXPECT_EQ(report.recovered, 5);
   ASSERT_EQ(report.lost.size(), 2u);
   EXPECT_EQ(report.lost[0], "teapot#0: model 'teapot' is not in the scene");
-  EXPECT_EQ(report.lost[1], "bunny#9: would overlap 'bunny#3'");
+  EXPECT_EQ(report.lost[1], "bunny#9: would overlap 'bunny#3' (at its pose)");
+  EXPECT_GE(after.world().find("bunny#8"), 0);
   for (const RecoveredBody& b : saved) {
     const int index = after.world().find(b.body_id);
     ASSERT_GE(index, 0) << b.body_id;
@@ -180,7 +202,7 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   spawn.seq = 1;
   spawn.X_WB = geometry::make_pose({0.4, -0.3, 0.3}, {0.7071067811865476, 0.7071067811865476, 0, 0});
   ASSERT_TRUE(after.on_command(spawn)) << after.last_rejection();
-  EXPECT_GE(after.world().find("bunny#4"), 0);
+  EXPECT_GE(after.world().find("bunny#9"), 0);  // after the highest resumed id, bunny#8
 }
 
 // A bunny thrown past the table falls out of the world: it is removed (so it no longer
