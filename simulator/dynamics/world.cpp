@@ -475,6 +475,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
                {}};
       if (!resting_slowly) ++report.ccd_queries;
       const collision::ContinuousResult& r = query.result;
+      query.swept = !resting_slowly && !touching_at_start(r);
       if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
         // The meeting point as material points of both bodies, and A's normal there.
         const geometry::Pose X_A = motion_a.pose_at(r.time_of_impact);
@@ -538,12 +539,46 @@ double World::shallow_fraction(const std::vector<int>& participants, const std::
   return fraction;
 }
 
+World::ImpactCache World::carry_over_cut(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                                         std::vector<geometry::Pose>& next, Cut& cut) const {
+  // A dynamic body the solve after a cut left as it was goes on along the same screw
+  // motion (integrate's constant twist): its end pose is the one before the cut, and a
+  // pair of such bodies (or of one and a static body) moves over the rest of the step
+  // as it did over that part of the motion. Its CCD answer carries over, its time
+  // rescaled. (Queried afresh after every cut, a spawn of 100 bunnies made 8,000 mesh
+  // queries per step.)
+  std::vector<char> goes_on(participants.size(), 0);
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = bodies_[participants[s]];
+    if (body.motion == BodyMotion::kStatic) {
+      goes_on[s] = 1;
+    } else if (body.is_dynamic() && u[s].v_WC_m_s == cut.u[s].v_WC_m_s && u[s].w_W_rad_s == cut.u[s].w_W_rad_s) {
+      goes_on[s] = 1;
+      next[s] = cut.next[s];
+    }
+  }
+  for (auto it = cut.answers.begin(); it != cut.answers.end();) {
+    const int a = slot_of(participants, it->first.first), b = slot_of(participants, it->first.second);
+    CachedImpact& query = it->second;
+    // Only answers for the motion the cut was made in, that timed it and met nothing
+    // until well after the cut.
+    bool keep = goes_on[a] && goes_on[b] && query.valid && query.swept &&
+                query.next_A.matrix() == cut.next[a].matrix() && query.next_B.matrix() == cut.next[b].matrix() &&
+                (!query.result.collides || query.result.time_of_impact > cut.tau + 1e-9);
+    if (keep && query.result.collides)
+      query.result.time_of_impact = (query.result.time_of_impact - cut.tau) / (1 - cut.tau);
+    it = keep ? std::next(it) : cut.answers.erase(it);
+  }
+  return std::move(cut.answers);
+}
+
 World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                                          ImpactCache& first_ccd, StepReport& report) {
   GroupOutcome outcome;
   outcome.swept.assign(participants.size(), Eigen::AlignedBox3d());
   double elapsed = 0;
   int events = 0;
+  Cut cut;  // the last cut's motions and answers
   while (dt_s - elapsed > 1e-12 * dt_s) {
     double h = dt_s - elapsed;
     set_kinematic_state(participants, time_s_ + elapsed, h);
@@ -578,8 +613,10 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     }
     std::vector<geometry::Pose> next = candidate_poses(participants, u, elapsed, h);
     double tau = 1.0;
-    // Answers valid while the start poses are these: the step's first sweep, then fresh.
+    // Answers valid while the start poses are these: the step's first sweep, then fresh,
+    // but for the pairs that go on as before the cut (below).
     ImpactCache fresh;
+    if (!at_start) fresh = carry_over_cut(participants, u, next, cut);
     ImpactCache& cache = at_start ? first_ccd : fresh;
     for (int round = 0;; ++round) {
       ImpactMap meeting;
@@ -656,6 +693,14 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       // impact, with the velocities of the step, and go on from there.
       h *= tau;
       if (++events >= options_.max_events_per_step) outcome.capped = true;
+      cut = {u, next, tau, {}};
+      if (at_start) {
+        for (int i : participants)
+          for (auto it = cache.lower_bound({i, -1}); it != cache.end() && it->first.first == i; ++it)
+            if (slot_of(participants, it->first.second) >= 0) cut.answers.insert(cut.answers.end(), *it);
+      } else {
+        cut.answers = std::move(fresh);
+      }
     }
     for (std::size_t s = 0; s < participants.size(); ++s) {
       RigidBody& body = bodies_[participants[s]];

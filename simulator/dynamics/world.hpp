@@ -149,6 +149,7 @@ class World {
     std::vector<ImpactPoint> hits;  // the meeting, or the points a touching pair digs in at
     bool deepens = false;           // touching at the start, deeper than allowed at the end
     double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
+    bool swept = false;             // the CCD ran and timed the motion (not touching at the start)
   };
   using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
   // A dynamic body's state moves through a step in its group (see step()); a group's
@@ -164,6 +165,18 @@ class World {
     std::vector<Eigen::AlignedBox3d> swept;   // box each participant swept over the step
     bool capped = false;
   };
+  // A cut of a group's step at a time of impact: the motion it cut (participants'
+  // velocities and end poses), where, and the CCD answers for that motion.
+  struct Cut {
+    std::vector<BodyVelocity> u;
+    std::vector<geometry::Pose> next;
+    double tau = 1;
+    ImpactCache answers;
+  };
+  // The CCD answers of the cut motion that hold for the motion after it; sets the end
+  // pose of each body that goes on as before back to the one the cut motion had.
+  ImpactCache carry_over_cut(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                             std::vector<geometry::Pose>& next, Cut& cut) const;
   // Steps one group through dt_s: CCD, re-solves with the impacts, cuts at times of
   // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
