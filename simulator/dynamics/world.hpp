@@ -165,6 +165,11 @@ class World {
     std::vector<Eigen::AlignedBox3d> swept;   // box each participant swept over the step
     bool capped = false;
   };
+  // Keeps the end pose next_before of each dynamic body whose velocity u is u_before
+  // (static bodies: always); returns which, by participant.
+  std::vector<char> keep_motions(const std::vector<int>& participants, const std::vector<BodyVelocity>& u_before,
+                                 const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
+                                 std::vector<geometry::Pose>& next) const;
   // A cut of a group's step at a time of impact: the motion it cut (participants'
   // velocities and end poses), where, and the CCD answers for that motion.
   struct Cut {
