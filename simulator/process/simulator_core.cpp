@@ -167,28 +167,26 @@ std::string SimulatorCore::add_instance(const config::ObjectConfig& object, cons
   // comes back as it was, unless another body is at its very pose (a duplicate, not a
   // state the world can have been in). Refusing every overlap lost a touching bunny in 6
   // of 14 runs of the process-restart test.
-  for (const auto& other : world_.bodies()) {
-    if (resumed) {
-      if (other.shape.type() == collision::Shape::Type::kPlane) continue;
-      const double apart_m = (other.X_WB.translation() - X_WB.translation()).norm();
-      const double turned_rad = Eigen::AngleAxisd(other.X_WB.linear().transpose() * X_WB.linear()).angle();
-      if (apart_m < 1e-3 && turned_rad < 1e-2) return "would overlap '" + other.id + "' (at its pose)";
-      continue;
-    }
+  const auto at_its_pose = [&](const dynamics::RigidBody& other) {
+    return (other.X_WB.translation() - X_WB.translation()).norm() < 1e-3 &&
+           Eigen::AngleAxisd(other.X_WB.linear().transpose() * X_WB.linear()).angle() < 1e-2;
+  };
+  const auto overlaps = [&](const dynamics::RigidBody& other) {
     if (other.shape.type() != collision::Shape::Type::kPlane &&
         (other.X_WB.translation() - body.X_WB.translation()).norm() > other.bounding_radius_m() + body.bounding_radius_m()) {
-      continue;
+      return false;
     }
-    bool overlap = false;
-    if (body.shape.triangles() && other.shape.triangles()) {
-      overlap = collision::intersects(*body.shape.triangles(), body.X_WB, *other.shape.triangles(), other.X_WB);
-    } else {
-      // Planes and spheres report signed distances: negative is a penetration.
-      for (const auto& point : collision::contact_manifold(body.shape, body.X_WB, other.shape, other.X_WB, 1e-4)) {
-        overlap = overlap || point.distance_m < 0.0;
-      }
-    }
-    if (overlap) return "would overlap '" + other.id + "'";
+    if (body.shape.triangles() && other.shape.triangles())
+      return collision::intersects(*body.shape.triangles(), body.X_WB, *other.shape.triangles(), other.X_WB);
+    // Planes and spheres report signed distances: negative is a penetration.
+    for (const auto& point : collision::contact_manifold(body.shape, body.X_WB, other.shape, other.X_WB, 1e-4))
+      if (point.distance_m < 0.0) return true;
+    return false;
+  };
+  for (const auto& other : world_.bodies()) {
+    if (resumed && other.shape.type() != collision::Shape::Type::kPlane && at_its_pose(other))
+      return "would overlap '" + other.id + "' (at its pose)";
+    if (!resumed && overlaps(other)) return "would overlap '" + other.id + "'";
   }
   // Generated ids continue after the highest one in use ("bunny#7" -> next "bunny#8").
   const std::size_t hash = id.rfind('#');

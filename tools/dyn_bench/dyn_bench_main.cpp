@@ -77,6 +77,16 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+double mean(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+// The chaotic scenes (the pile, the bunnies) run again with each body's start velocity
+// along x changed by this, up to 8 um/s, seeded by the body and the run (0 for run 0).
+double start_velocity_perturbation_m_s(int body, int run) {
+  return run == 0 ? 0.0 : 1e-6 * ((body * 7919 + run * 104729) % 17 - 8);
+}
+
 // Deepest box corner below the plane z = 0, metres (0: none).
 double corner_penetration(const Eigen::Isometry3d& X, const Eigen::Vector3d& h) {
   double deepest = 0;
@@ -224,7 +234,7 @@ DropRun drop_once(const std::string& e, int n, double mu, double duration, int r
     const Eigen::Vector3d axis(2 * next() - 1, 2 * next() - 1, 2 * next() - 1);
     const double angle = 0.3 * next();
     if (axis.norm() > 0) b.X_WB.linear() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-    if (run > 0) b.v_m_s.x() += 1e-6 * ((i * 7919 + run * 104729) % 17 - 8);
+    b.v_m_s.x() += start_velocity_perturbation_m_s(i, run);
     scene.bodies.push_back(b);
   }
   DropRun out;
@@ -255,7 +265,7 @@ DropRun drop_once(const std::string& e, int n, double mu, double duration, int r
     }
   }
   out.median_ms = median(ms);
-  out.mean_ms = ms.empty() ? 0.0 : std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(ms.size());
+  out.mean_ms = mean(ms);
   return out;
 }
 
@@ -299,19 +309,17 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
       const DropRun r = drop_once(key.first, 1000, key.second, duration, run);
       if (r.error.empty()) medians.push_back(r.median_ms);
     }
-    std::string by_run;
+    std::printf("%-18s %5.1f %10.3f     ", key.first.c_str(), key.second, mean(medians));
     for (std::size_t run = 0; run < medians.size(); ++run) {
-      by_run += (run ? " " : "") + std::to_string(medians[run]).substr(0, 6);
+      std::printf(" %.3f", medians[run]);
       runs_csv.out << key.first << ",1000," << key.second << "," << run << "," << medians[run] << "\n";
     }
-    const double mean = std::accumulate(medians.begin(), medians.end(), 0.0) / static_cast<double>(medians.size());
-    std::printf("%-18s %5.1f %10.3f      %s\n", key.first.c_str(), key.second, mean, by_run.c_str());
+    std::printf("\n");
     std::fflush(stdout);
   }
   for (double mu : {0.0, 0.5}) {
     const auto ours = pile_medians.find({"arphys", mu}), theirs = pile_medians.find({"ode-quick", mu});
     if (ours == pile_medians.end() || theirs == pile_medians.end()) continue;
-    const auto mean = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); };
     std::printf("arphys / ode-quick, mu %.1f: %.1fx (mean of the runs' medians)\n", mu, mean(ours->second) / mean(theirs->second));
   }
 }
@@ -324,11 +332,11 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
               runs, "scene", "run", "bodies", "ms/step", "real-time factor", "impacts");
   for (const std::string name : {"bunnies20", "bunnies100"}) {
     const auto scene = arphys::config::load_scene(configs + "/scenes/" + name + ".yaml");
-    double sum_ms = 0;
+    std::vector<double> ms_per_step;
     for (int run = 0; run < runs; ++run) {
       arphys::dynamics::World world = arphys::dynamics::build_world(scene);
-      for (int i = 0; run > 0 && i < static_cast<int>(world.bodies().size()); ++i)
-        if (world.bodies()[i].is_dynamic()) world.body(i).v_WC_m_s.x() += 1e-6 * ((i * 7919 + run * 104729) % 17 - 8);
+      for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
+        if (world.bodies()[i].is_dynamic()) world.body(i).v_WC_m_s.x() += start_velocity_perturbation_m_s(i, run);
       const long steps = std::lround(duration / scene.time_step_s);
       long impacts = 0, done = 0;
       const auto start = Clock::now();
@@ -340,7 +348,7 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
       }
       const double wall = std::chrono::duration<double>(Clock::now() - start).count();
       const double simulated = done * scene.time_step_s;
-      sum_ms += 1e3 * wall / done;
+      ms_per_step.push_back(1e3 * wall / done);
       std::printf("%-12s %4d %8zu %10.3f %16.2f %10ld%s\n", name.c_str(), run, world.bodies().size(), 1e3 * wall / done,
                   simulated / wall, impacts,
                   done < steps ? ("  (stopped after 120 s of wall time at t = " + std::to_string(simulated) + " s)").c_str() : "");
@@ -348,10 +356,9 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
               << "," << simulated << "," << run << "\n";
       std::fflush(stdout);
     }
-    if (runs > 1) {
-      const double mean_ms = sum_ms / runs;
-      std::printf("%-12s %4s %8s %10.3f %16.2f\n", name.c_str(), "mean", "", mean_ms, 1e3 * scene.time_step_s / mean_ms);
-    }
+    if (runs > 1)
+      std::printf("%-12s %4s %8s %10.3f %16.2f\n", name.c_str(), "mean", "", mean(ms_per_step),
+                  1e3 * scene.time_step_s / mean(ms_per_step));
   }
 }
 

@@ -14,8 +14,6 @@ namespace {
 
 using geometry::Pose;
 
-constexpr int kRowBalls = 6;
-
 RigidBody plane_body() {
   RigidBody b;
   b.id = "floor";
@@ -211,9 +209,10 @@ TEST(WorldRobustness, AnImpactThatSendsABodyIntoAnotherGroupMergesTheGroups) {
 // A step cut at a time of impact goes on from there; the pairs whose motion the cut did
 // not change keep their CCD answers (a body the solve after the cut leaves as it was goes
 // on along the same screw motion): here an elastic chain a -> b -> c is cut where b, struck
-// within the step, meets c, and a row of resting balls next to a, all in the chain's
-// group (their boxes overlap), is not swept again.
+// within the step, meets c, and a row of balls behind a, in the chain's group (their
+// boxes overlap) and moving but never touching, is not swept again.
 TEST(WorldRobustness, ACutSweepsOnlyThePairsItChanged) {
+  constexpr int kRowBalls = 6;
   WorldOptions options;
   options.gravity_m_s2.setZero();
   World world(options);
