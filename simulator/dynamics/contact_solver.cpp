@@ -124,7 +124,8 @@ constexpr int kSparseRows = 128;
 // ridge keeps the passive block solvable when contacts are redundant (four corners
 // of a face constrain three degrees of freedom). The passive block's factor follows
 // the rows joining and leaving it (IncrementalCholesky) up to kSparseRows rows; a
-// larger block is factorised sparse, afresh, each time it changes.
+// larger block is factorised sparse, afresh, each time it changes (unless that loses
+// digits: then the dense factor follows it again).
 // start_from: rows the active set starts from; with_violated: and every row the
 // unconstrained motion violates.
 DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool with_violated,
@@ -145,7 +146,12 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   std::vector<int> P;  // the passive rows, in the order they joined
   IncrementalCholesky factor;
   bool factor_follows = false;  // factor.rows() == P
-  const auto large = [&] { return sparse && static_cast<int>(P.size()) > kSparseRows; };
+  // Set when a sparse factorisation lost digits (nearly dependent rows: a squeezed pile
+  // of meshes, sixteen rows a pair): from then on the dense factor, kept up to date row
+  // by row, serves the rest of the solve. (Falling back to a dense factorisation afresh
+  // for every change of the active set took 30 s per step in a 100-bunny pile.)
+  bool sparse_unreliable = false;
+  const auto large = [&] { return sparse && !sparse_unreliable && static_cast<int>(P.size()) > kSparseRows; };
   const auto join = [&](int row) {
     P.push_back(row);
     passive[row] = 1;
@@ -203,7 +209,7 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
     const Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::NaturalOrdering<int>> ldlt(App);
     if (ldlt.info() == Eigen::Success) {
       // Without pivoting the ridge-regularised block can lose digits: refined once and
-      // checked against the block itself, else solved dense.
+      // checked against the block itself, else solved dense (from here on).
       Eigen::VectorXd rhs_ordered(m);
       for (int k = 0; k < m; ++k) rhs_ordered[k] = rhs[order[k]];
       Eigen::VectorXd s_ordered = ldlt.solve(rhs_ordered);
@@ -214,9 +220,10 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
         return s;
       }
     }
-    IncrementalCholesky dense;
-    dense.factor(A, P, ridge);
-    return dense.solve(rhs);
+    sparse_unreliable = true;
+    factor.factor(A, P, ridge);
+    factor_follows = true;
+    return factor.solve(rhs);
   };
   // Warm start: at rest, most active rows are those the unconstrained motion would
   // violate, and most of the others pushed in the caller's previous solve. Start from

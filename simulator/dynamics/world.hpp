@@ -62,10 +62,9 @@ struct WorldOptions {
   double launch_guard_slack_m_s = 0.5;
   // No body point moves faster than this after a solve (metres per second).
   double max_body_speed_m_s = 60.0;
-  // A body pair's contact set is reduced to at most this many points when larger (per
-  // normal direction: the deepest point and the extremes of the contact patch), which
-  // keeps its support polygon: a bunny resting on a table touches with hundreds of
-  // vertices that say no more than eight well-chosen ones.
+  // A body pair's contact set is reduced to at most this many points when larger (the
+  // closest point per normal direction, then the extremes of each contact patch, which
+  // keep its support polygon; see manifold_reduction.hpp).
   int max_contacts_per_pair = 16;
   ContactSolverOptions solver;
   // CCD settings; its work budget bounds a step's cost when meshes have sunk into each
@@ -150,6 +149,7 @@ class World {
     bool deepens = false;           // touching at the start, deeper than allowed at the end
     double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
     bool swept = false;             // the CCD ran and timed the motion (not touching at the start)
+    double free_until = 1;          // a touching mesh pair: the fraction of the motion before its surfaces cross
   };
   using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
   // A dynamic body's state moves through a step in its group (see step()); a group's
@@ -219,6 +219,11 @@ class World {
                          const std::vector<std::pair<int, int>>* swept_pairs = nullptr) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
+  // For a mesh pair the CCD found touching at the start: whether its surfaces cross at
+  // the end of the motion; if so, the fraction of the motion before they do
+  // (query.free_until) and the features touching there (query.hits).
+  void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
+                           const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query) const;
   // The fraction of the motions to `next` at which no touching pair in `cache` that
   // deepens is deeper than it may be (halving from 1).
   double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
