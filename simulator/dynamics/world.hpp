@@ -220,18 +220,18 @@ class World {
                          const std::vector<std::pair<int, int>>* swept_pairs = nullptr) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
-  // For a mesh pair the CCD found touching at the start: whether its surfaces cross at
-  // the end of the motion; if so, the fraction of the motion before they do
-  // (query.free_until) and the features touching there (query.hits).
-  // Two meshes whose surfaces cross at their current poses: a contact that pushes them
-  // apart, along the normal of a crossing triangle of A (the side B clears on), as deep as
-  // B must move along it to clear (to a factor of two, up to kDeepestCrossingMeasured_m).
-  // A mesh's own manifold gives crossing features distance 0, which a solve undoes at the
-  // resting gap per step: a crossed pair stayed crossed for hundreds of steps.
+  // Two meshes whose surfaces cross at their current poses (`manifold`: theirs, within
+  // the contact tolerance): a contact that pushes B out of A along the shortest of a few
+  // ways that clear them, as deep as B must move that way (to a factor of two, up to
+  // kDeepestCrossingMeasured_m). A mesh's own manifold does not measure crossings (its
+  // distances are unsigned): a crossed pair stayed crossed for hundreds of steps.
   std::optional<collision::ManifoldPoint> mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
                                                               const std::vector<collision::ManifoldPoint>& manifold) const;
   // Mesh crossings deeper than this are not measured.
   static constexpr double kDeepestCrossingMeasured_m = 0.01;
+  // For a mesh pair the CCD found touching at the start: whether its surfaces cross at
+  // the end of the motion; if so, the fraction of the motion before they do
+  // (query.free_until) and the features touching there (query.hits).
   void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
                            const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query) const;
   // The fraction of the motions to `next` at which no touching pair in `cache` that
