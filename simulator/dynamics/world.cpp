@@ -90,7 +90,6 @@ std::vector<std::pair<int, int>> pairs_of(const std::vector<Contact>& contacts) 
   return pairs;
 }
 
-// A participant's place in the (sorted) participants, -1 if it is not one.
 // Whether the pair's contact manifold measures how deep the bodies overlap (signed
 // distances): every pair but those of a mesh with a mesh or a box.
 bool depth_measured(const RigidBody& a, const RigidBody& b) {
@@ -98,6 +97,7 @@ bool depth_measured(const RigidBody& a, const RigidBody& b) {
   return !(is_mesh(a) || is_mesh(b)) || !a.shape.triangles() || !b.shape.triangles();
 }
 
+// A participant's place in the (sorted) participants, -1 if it is not one.
 int slot_of(const std::vector<int>& participants, int body) {
   const auto it = std::lower_bound(participants.begin(), participants.end(), body);
   return it != participants.end() && *it == body ? static_cast<int>(it - participants.begin()) : -1;
@@ -109,7 +109,6 @@ double combined_friction(const RigidBody& a, const RigidBody& b) {
   if (b.friction) return *b.friction;
   return 0;
 }
-
 
 }  // namespace
 
@@ -550,7 +549,9 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
   // 300 um deep cut by cut).
   const collision::CollisionMesh& mesh_a = *a.shape.triangles();
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
-  const auto crosses = [&](double t) { return collision::intersects(mesh_a, motion_a.pose_at(t), mesh_b, motion_b.pose_at(t)); };
+  const auto crosses = [&](double t) {
+    return collision::intersects(mesh_a, motion_a.pose_at(t), mesh_b, motion_b.pose_at(t));
+  };
   if (!crosses(1.0)) return;
   double free = 0, crossing = 1;
   for (int halving = 0; halving < 8; ++halving) {
