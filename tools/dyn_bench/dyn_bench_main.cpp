@@ -17,6 +17,7 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #include "configs/loader/scene_config.hpp"
 #include "simulator/collision/broad_phase.hpp"
@@ -113,7 +114,11 @@ double box_overlap(const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vec
 
 struct Csv {
   std::ofstream out;
-  Csv(const std::string& path, const std::string& header) : out(path) { out << header << "\n"; }
+  Csv(const std::string& path, const std::string& header) : out(path) {
+    // (A missing --out directory used to write nothing, silently.)
+    if (!out) throw std::runtime_error("cannot write " + path + " (does the --out directory exist?)");
+    out << header << "\n";
+  }
 };
 
 void run_stack(const std::vector<std::string>& engines, double duration, const std::vector<double>& dts, Csv& csv) {
@@ -419,24 +424,29 @@ int main(int argc, char** argv) {
     for (const auto& e : engines) s += e + " ";
     return s;
   }().c_str());
-  for (const std::string& scene : scenes) {
-    if (scene == "stack") {
-      Csv csv(out + "/dyn_stack.csv", "engine,n,dt_s,toppled,topple_t_s,top_drift_mm,max_tilt_deg,ms_per_step,simulated_s");
-      run_stack(engines, stack_seconds > 0 ? stack_seconds : (quick ? 2.0 : 60.0), stack_dts, csv);
-    } else if (scene == "push") {
-      Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step,filtered,peak_t_s");
-      run_push(engines, csv);
-    } else if (scene == "drop") {
-      Csv csv(out + "/dyn_drop.csv", "engine,n,mu,median_ms_per_step,max_penetration_mm,final_penetration_mm,simulated_s,max_box_overlap_mm,mean_ms_per_step");
-      run_drop(engines, quick ? std::vector<int>{10, 100} : drop_counts, quick ? 0.3 : drop_seconds, pile_runs, csv,
-               out + "/dyn_drop_pile_runs.csv");
-    } else if (scene == "bunnies") {
-      Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run,crossed_pair_steps,waited_steps");
-      run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, bunny_runs > 0 ? bunny_runs : (quick ? 1 : 3), csv);
-    } else {
-      std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str());
-      return 2;
+  try {
+    for (const std::string& scene : scenes) {
+      if (scene == "stack") {
+        Csv csv(out + "/dyn_stack.csv", "engine,n,dt_s,toppled,topple_t_s,top_drift_mm,max_tilt_deg,ms_per_step,simulated_s");
+        run_stack(engines, stack_seconds > 0 ? stack_seconds : (quick ? 2.0 : 60.0), stack_dts, csv);
+      } else if (scene == "push") {
+        Csv csv(out + "/dyn_push.csv", "engine,dt_s,noise_m,peak_speed_ratio,max_overlap_mm,ms_per_step,filtered,peak_t_s");
+        run_push(engines, csv);
+      } else if (scene == "drop") {
+        Csv csv(out + "/dyn_drop.csv", "engine,n,mu,median_ms_per_step,max_penetration_mm,final_penetration_mm,simulated_s,max_box_overlap_mm,mean_ms_per_step");
+        run_drop(engines, quick ? std::vector<int>{10, 100} : drop_counts, quick ? 0.3 : drop_seconds, pile_runs, csv,
+                 out + "/dyn_drop_pile_runs.csv");
+      } else if (scene == "bunnies") {
+        Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run,crossed_pair_steps,waited_steps");
+        run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, bunny_runs > 0 ? bunny_runs : (quick ? 1 : 3), csv);
+      } else {
+        std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str());
+        return 2;
+      }
     }
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "arphys-dyn-bench: %s\n", error.what());
+    return 1;
   }
   return 0;
 }
