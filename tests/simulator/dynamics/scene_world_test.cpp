@@ -58,7 +58,7 @@ TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
 #else
   const int kSteps = 50;
 #endif
-  int turns = 0, crossed = 0;
+  int crossed = 0;
   for (const Eigen::Vector3d axis : {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()}) {
     for (const double w_rad_s : {-10.0, -5.0, 5.0, 10.0}) {
       World world;
@@ -84,10 +84,8 @@ TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
         ASSERT_TRUE(body.X_WB.matrix().allFinite());
         crossed += collision::intersects(mesh, upright, mesh, body.X_WB);
       }
-      ++turns;
     }
   }
-  EXPECT_EQ(turns, 12);
   EXPECT_EQ(crossed, 0) << "steps that ended with the bunnies' surfaces crossing";
 }
 
