@@ -166,16 +166,29 @@ class ManifoldBuilder {
     const auto key = std::make_pair(std::minmax(ia[i], ia[(i + 1) % 3]), std::minmax(ib[j], ib[(j + 1) % 3]));
     if (!edge_keys_.insert(key).second) return;
     n.normalize();
-    // Orient from A to B: out of A and into B by the faces' outward normals when both
-    // are solids, else by the closest points (or the bodies' origins when touching).
-    Eigen::Vector3d from_A_to_B;
-    if (A_.closed() && B_.closed()) {
-      from_A_to_B = X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]) -
-                    X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]);
-    } else {
+    // Orient from A to B: out of A and into B by the outward normals of whichever is a
+    // solid, else by the closest points (or the bodies' origins when touching). The
+    // closest points point the wrong way once the edges have crossed: a box edge that a
+    // bunny's edge had passed by 0.2 mm got a normal into the box, and with the box's
+    // face contacts the bunny's push-out was contradictory (infeasible) at every step.
+    Eigen::Vector3d from_A_to_B = Eigen::Vector3d::Zero();
+    if (A_.closed()) from_A_to_B += X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]);
+    if (B_.closed()) from_A_to_B -= X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]);
+    if (!A_.closed() && !B_.closed()) {
       from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
     }
     if (n.dot(from_A_to_B) < 0) n = -n;
+    // On a solid, a contact across an edge has its normal between the two faces' normals
+    // (within half their angle of their sum). Two edges crossing at another angle are no
+    // contact of that edge: the face they lean on holds them (by its vertex contacts).
+    // Such rows (a box's bottom edge pressing a bunny's rim into the box, say) made the
+    // box's pushes contradictory: infeasible solves, step after step.
+    const auto across_edge = [](const Eigen::Vector3d& normal_out, const Eigen::Vector3d& faces_sum) {
+      const double s = faces_sum.norm();
+      return s == 0 || normal_out.dot(faces_sum) >= 0.5 * s * s - 1e-9 * s;
+    };
+    if (A_.closed() && !across_edge(n, X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]))) return;
+    if (B_.closed() && !across_edge(-n, X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]))) return;
     points_.push_back({pa, pb, n, n.dot(pb - pa), pair});
   }
 

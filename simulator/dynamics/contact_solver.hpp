@@ -65,7 +65,9 @@ struct ContactSolveResult {
   double kkt_residual_m_s = 0;
   int iterations = 0;
   // The constraints contradict each other (a body squeezed between non-dynamic ones):
-  // solved again with every push-apart demand dropped, so nothing is launched.
+  // solved again with the contradictory rows' push-apart demands dropped (then every
+  // row's, then the non-dynamic bodies' approach too), so nothing is launched and no
+  // body falls through its other supports.
   bool infeasible = false;
   int iterative_islands = 0;  // islands over max_exact_rows, solved iteratively
 };

@@ -85,6 +85,46 @@ TEST(DiscreteQuery, ManifoldOfStackedBoxesGivesCornersAndEdgeCrossings) {
   }
 }
 
+// An edge of a solid (a box) meets an open surface's edge. The contact normal across a
+// solid's edge lies between its two faces' normals: an edge crossing it at another angle
+// is no contact of that edge. Such rows (a box's bottom edge pressing a bunny's rim into
+// the box) contradicted the box's face contacts, and the solve was infeasible step after
+// step in the 100-bunny scene.
+TEST(DiscreteQuery, EdgeContactsOfASolidHaveNormalsBetweenItsFaces) {
+  const CollisionMesh box(geometry::make_box_mesh({2, 2, 2}));  // the edge along x at y = z = 1
+  const Eigen::Vector3d bisector = Eigen::Vector3d(0, 1, 1).normalized();
+  const auto sheet = [](const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& p2) {
+    geometry::TriangleMesh mesh;
+    mesh.vertices_m = {p0, p1, p2};
+    mesh.triangles = {{0, 1, 2}};
+    return CollisionMesh(mesh);
+  };
+  const auto manifold = [&](const CollisionMesh& open, bool box_first) {
+    auto points = box_first ? contact_manifold(box, geometry::Pose::Identity(), open, geometry::Pose::Identity(), 1e-3)
+                            : contact_manifold(open, geometry::Pose::Identity(), box, geometry::Pose::Identity(), 1e-3);
+    if (!box_first)
+      for (auto& p : points) p.normal_W = -p.normal_W;  // from the box, as in the other order
+    return points;
+  };
+  // Across the edge, 0.5 mm outside it along the bisector: one contact, normal = the bisector.
+  const Eigen::Vector3d out = 5e-4 * bisector;
+  const CollisionMesh across = sheet(Eigen::Vector3d(0, 1.3, 0.7) + out, Eigen::Vector3d(0, 0.7, 1.3) + out,
+                                     Eigen::Vector3d(0.05, 1.3, 1.3) + out);
+  ASSERT_FALSE(across.closed());
+  for (const bool box_first : {true, false}) {
+    const auto points = manifold(across, box_first);
+    ASSERT_EQ(points.size(), 1u) << "box first: " << box_first;
+    EXPECT_NEAR(points[0].normal_W.dot(bisector), 1.0, 1e-12);
+    EXPECT_NEAR(points[0].distance_m, 5e-4, 1e-12);
+  }
+  // Along the bisector through the edge into the box: the edges cross with the normal
+  // (0, -1, 1) / sqrt(2), outside the edge's normals. No contact of that edge.
+  const CollisionMesh into = sheet({0, 1.3, 1.3}, {0, 0.7, 0.7}, {0.05, 1.3, 0.7});
+  for (const bool box_first : {true, false})
+    for (const auto& p : manifold(into, box_first))
+      EXPECT_GE(p.normal_W.dot(bisector), std::sqrt(0.5) - 1e-9) << "box first: " << box_first << ", normal " << p.normal_W.transpose();
+}
+
 TEST(TriangleDistance, CrossingTrianglesAreAtZeroDistance) {
   const Eigen::Vector3d a[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const Eigen::Vector3d b[3] = {{0.2, 0.2, -1}, {0.2, 0.2, 1}, {0.3, 0.9, 0.5}};  // pierces a

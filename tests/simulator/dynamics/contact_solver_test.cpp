@@ -121,6 +121,53 @@ TEST(ContactSolver, LargeIslandIsSolvedExactly) {
   }
 }
 
+// Box 0 is pressed into the ground by a static body overlapping it (its rows demand it
+// move down at 5 cm/s, the ground's that it not move down): a contradiction. Box 1, beside
+// it in the same island, must leave it at 0.1 m/s (a bounce). The solve is reported
+// infeasible; box 0 neither sinks nor is launched, and box 1 still leaves: only the
+// contradictory rows lose their push-apart demands. (Before, the relaxed bounds had the
+// wrong sign and the island got no impulses at all: box 0 fell into the ground and box 1
+// stayed.)
+TEST(ContactSolver, ASqueezedBodyStaysOnItsSupportAndTheRestOfItsIslandIsSolved) {
+  const double g_h = 9.81e-3;  // gravity over a 1 ms step
+  const std::vector<BodyInertia> inertia{unit_box({0, 0, 0.1}), unit_box({0.2, 0, 0.1})};
+  std::vector<BodyVelocity> u(2);
+  u[0].v_WC_m_s = {0, 0, -g_h};
+  u[1].v_WC_m_s = {0, 0, -g_h};
+  std::vector<ContactRow> rows;
+  for (int body = 0; body < 2; ++body)
+    for (const double dx : {-0.1, 0.1})
+      for (const double dy : {-0.1, 0.1}) rows.push_back(on_ground(body, {0.2 * body + dx, dy, 0}));
+  for (const double dx : {-0.1, 0.1})
+    for (const double dy : {-0.1, 0.1}) {
+      ContactRow press;  // from the static press (above) to box 0: down
+      press.body_b = 0;
+      press.point_W = {dx, dy, 0.2};
+      press.normal_W = -Eigen::Vector3d::UnitZ();
+      press.min_normal_velocity_m_s = 0.05;
+      rows.push_back(press);
+    }
+  for (const double dy : {-0.1, 0.1}) {
+    ContactRow side;  // box 0 to box 1 along x, to part at 0.1 m/s
+    side.body_a = 0;
+    side.body_b = 1;
+    side.point_W = {0.1, dy, 0.1};
+    side.normal_W = Eigen::Vector3d::UnitX();
+    side.min_normal_velocity_m_s = 0.1;
+    rows.push_back(side);
+  }
+  const ContactSolveResult result = solve_contacts(inertia, u, rows, {});
+  EXPECT_TRUE(result.infeasible);
+  for (int body = 0; body < 2; ++body) {
+    ASSERT_TRUE(u[body].v_WC_m_s.allFinite() && u[body].w_W_rad_s.allFinite());
+    EXPECT_LT(u[body].v_WC_m_s.norm(), 1.0) << "body " << body << " launched";
+  }
+  EXPECT_NEAR(u[0].v_WC_m_s.z(), 0.0, 1e-9);   // neither into the ground nor up
+  EXPECT_NEAR(u[0].w_W_rad_s.norm(), 0.0, 1e-9);
+  EXPECT_GE(u[1].v_WC_m_s.x() - u[0].v_WC_m_s.x(), 0.1 - 1e-9);  // box 1's own demand holds
+  EXPECT_NEAR(u[0].v_WC_m_s.x() + u[1].v_WC_m_s.x(), 0.0, 1e-9);  // frictionless ground: x momentum kept
+}
+
 // A stack of three boxes at rest falls as one under gravity: the contacts between boxes
 // are not violated by the unconstrained motion, only the ground's are. The exact solver
 // finds the others one per iteration, unless told which pushed in the previous step.
