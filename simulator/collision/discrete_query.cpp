@@ -86,6 +86,21 @@ SeparationResult separation(const CollisionMesh& A, const geometry::Pose& X_WA, 
 
 namespace {
 
+// The normal out of a solid across its edge (direction edge_W) nearest to normal_out:
+// itself if it lies between the two faces' normals, else the nearer face's normal.
+// faces_sum_W: the sum of the two faces' unit normals (zero: unknown, left as it is).
+Eigen::Vector3d within_edge_normals(const Eigen::Vector3d& normal_out, const Eigen::Vector3d& edge_W,
+                                    const Eigen::Vector3d& faces_sum_W) {
+  const double s = faces_sum_W.norm();
+  if (s == 0 || normal_out.dot(faces_sum_W) >= 0.5 * s * s) return normal_out;
+  // The faces' normals lie at half their angle either side of their sum, across the edge.
+  const Eigen::Vector3d middle = faces_sum_W / s;
+  const Eigen::Vector3d side = edge_W.cross(middle).normalized();
+  const double c = std::min(1.0, 0.5 * s);
+  const double t = std::sqrt(1 - c * c);
+  return c * middle + (normal_out.dot(side) >= 0 ? t : -t) * side;
+}
+
 // Collects the feature contacts of close triangle pairs without duplicates: a vertex
 // over a face (keyed by the vertex and the face's normal, so one vertex on two coplanar
 // triangles counts once) or two edges crossing (keyed by their vertex indices).
@@ -178,17 +193,14 @@ class ManifoldBuilder {
       from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
     }
     if (n.dot(from_A_to_B) < 0) n = -n;
-    // On a solid, a contact across an edge has its normal between the two faces' normals
-    // (within half their angle of their sum). Two edges crossing at another angle are no
-    // contact of that edge: the face they lean on holds them (by its vertex contacts).
-    // Such rows (a box's bottom edge pressing a bunny's rim into the box, say) made the
-    // box's pushes contradictory: infeasible solves, step after step.
-    const auto across_edge = [](const Eigen::Vector3d& normal_out, const Eigen::Vector3d& faces_sum) {
-      const double s = faces_sum.norm();
-      return s == 0 || normal_out.dot(faces_sum) >= 0.5 * s * s - 1e-9 * s;
-    };
-    if (A_.closed() && !across_edge(n, X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]))) return;
-    if (B_.closed() && !across_edge(-n, X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]))) return;
+    // On a solid, a contact across an edge has its normal between its two faces' normals.
+    // Two edges crossing at another angle touch one of those faces: the normal is that
+    // face's. (Kept as they came, such rows, a box's bottom edge pressing a bunny's rim
+    // into the box, contradicted the box's face contacts step after step; dropped, a
+    // bunny's base edges resting on a table's rim, tilted a hair outside its normals,
+    // left it unsupported there, and it waited on the table at every step.)
+    if (A_.closed()) n = within_edge_normals(n, p1 - p0, X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]));
+    if (B_.closed()) n = -within_edge_normals(-n, q1 - q0, X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]));
     points_.push_back({pa, pb, n, n.dot(pb - pa), pair});
   }
 

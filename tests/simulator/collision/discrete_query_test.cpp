@@ -86,10 +86,10 @@ TEST(DiscreteQuery, ManifoldOfStackedBoxesGivesCornersAndEdgeCrossings) {
 }
 
 // An edge of a solid (a box) meets an open surface's edge. The contact normal across a
-// solid's edge lies between its two faces' normals: an edge crossing it at another angle
-// is no contact of that edge. Such rows (a box's bottom edge pressing a bunny's rim into
-// the box) contradicted the box's face contacts, and the solve was infeasible step after
-// step in the 100-bunny scene.
+// solid's edge lies between its two faces' normals; edges crossing at another angle touch
+// one of the faces and get its normal. Kept as they came, such normals (a box's bottom
+// edge pressing a bunny's rim into the box) contradicted the box's face contacts, and the
+// solve was infeasible step after step in the 100-bunny scene.
 TEST(DiscreteQuery, EdgeContactsOfASolidHaveNormalsBetweenItsFaces) {
   const CollisionMesh box(geometry::make_box_mesh({2, 2, 2}));  // the edge along x at y = z = 1
   const Eigen::Vector3d bisector = Eigen::Vector3d(0, 1, 1).normalized();
@@ -118,11 +118,29 @@ TEST(DiscreteQuery, EdgeContactsOfASolidHaveNormalsBetweenItsFaces) {
     EXPECT_NEAR(points[0].distance_m, 5e-4, 1e-12);
   }
   // Along the bisector through the edge into the box: the edges cross with the normal
-  // (0, -1, 1) / sqrt(2), outside the edge's normals. No contact of that edge.
+  // (0, -1, 1) / sqrt(2), square to the bisector. The contact is the top face's.
   const CollisionMesh into = sheet({0, 1.3, 1.3}, {0, 0.7, 0.7}, {0.05, 1.3, 0.7});
-  for (const bool box_first : {true, false})
-    for (const auto& p : manifold(into, box_first))
-      EXPECT_GE(p.normal_W.dot(bisector), std::sqrt(0.5) - 1e-9) << "box first: " << box_first << ", normal " << p.normal_W.transpose();
+  for (const bool box_first : {true, false}) {
+    const auto points = manifold(into, box_first);
+    ASSERT_EQ(points.size(), 1u) << "box first: " << box_first;
+    EXPECT_NEAR(points[0].normal_W.z(), 1.0, 1e-12) << "box first: " << box_first;
+  }
+  // A sheet resting 0.5 mm above the top face and overhanging the edge, its far end
+  // tilted up 0.2 mm: its edges cross the box's a hair outside the edge's normals. They
+  // are its support at the rim, with the top face's normal (dropped, a bunny on a table's
+  // rim lost its support there and waited at every step).
+  const CollisionMesh overhang = sheet({-0.05, 0.8, 1.0005}, {0.05, 0.8, 1.0005}, {0, 1.2, 1.0007});
+  for (const bool box_first : {true, false}) {
+    int at_rim = 0;
+    for (const auto& p : manifold(overhang, box_first)) {
+      EXPECT_GE(p.normal_W.dot(bisector), std::sqrt(0.5) - 1e-12) << "box first: " << box_first << ", normal " << p.normal_W.transpose();
+      if (std::abs(p.point_A_W.y() - 1) < 1e-9 || std::abs(p.point_B_W.y() - 1) < 1e-9) {
+        ++at_rim;
+        EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+      }
+    }
+    EXPECT_EQ(at_rim, 2) << "box first: " << box_first;  // both sloping edges
+  }
 }
 
 TEST(TriangleDistance, CrossingTrianglesAreAtZeroDistance) {
