@@ -747,8 +747,15 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       if (chained) {
         // Cut at the meeting, but not past where a touching pair digs in (a mesh pair
         // crossing at once: cut at the start, cut past it, it crossed and sank unseen).
-        if (deepening) tau = std::min(tau, shallow_fraction(participants, next, cache));
-        break;
+        const double cut_at = deepening ? std::min(tau, shallow_fraction(participants, next, cache)) : tau;
+        // Such a pair crossing at once would make it a cut of nothing, and the same again
+        // after it: the group's whole step would end there, step after step (a 20-bunny
+        // scene froze for a second, a bunny on the table crossing at once while another
+        // bounced). The bounce is then solved with the rest, and the pair's crossing with it.
+        if (cut_at > 0) {
+          tau = cut_at;
+          break;
+        }
       }
       std::vector<BodyVelocity> u_resolved =
           solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
