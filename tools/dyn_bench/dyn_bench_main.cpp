@@ -330,18 +330,26 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
   }
 }
 
-// Pairs of mesh bodies whose surfaces cross at their current poses.
-long crossing_mesh_pairs(const arphys::dynamics::World& world) {
+// Pairs whose surfaces cross at their current poses: two meshes (bunnies), and a mesh
+// with a non-dynamic box (a bunny in the table or in the tracked box).
+struct Crossings {
+  long meshes = 0, with_fixed = 0;
+};
+Crossings crossing_pairs(const arphys::dynamics::World& world) {
+  using Type = arphys::collision::Shape::Type;
   const auto& bodies = world.bodies();
-  long crossing = 0;
+  Crossings crossing;
   for (std::size_t i = 0; i < bodies.size(); ++i)
     for (std::size_t j = i + 1; j < bodies.size(); ++j) {
       const auto& a = bodies[i];
       const auto& b = bodies[j];
-      if (a.shape.type() != arphys::collision::Shape::Type::kMesh || b.shape.type() != arphys::collision::Shape::Type::kMesh)
-        continue;
+      const bool meshes = a.shape.type() == Type::kMesh && b.shape.type() == Type::kMesh;
+      const bool with_fixed = (a.shape.type() == Type::kMesh && !b.is_dynamic() && b.shape.type() == Type::kBox) ||
+                              (b.shape.type() == Type::kMesh && !a.is_dynamic() && a.shape.type() == Type::kBox);
+      if (!meshes && !with_fixed) continue;
       if ((a.X_WB.translation() - b.X_WB.translation()).norm() > a.bounding_radius_m() + b.bounding_radius_m()) continue;
-      crossing += arphys::collision::intersects(*a.shape.triangles(), a.X_WB, *b.shape.triangles(), b.X_WB);
+      if (!arphys::collision::intersects(*a.shape.triangles(), a.X_WB, *b.shape.triangles(), b.X_WB)) continue;
+      ++(meshes ? crossing.meshes : crossing.with_fixed);
     }
   return crossing;
 }
@@ -351,11 +359,12 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
   // so one run's time says little: run 0 is the scene as shipped, each further run starts
   // its bunnies with velocities perturbed by up to 8 um/s (seeded), and the mean is printed.
   // After every step (outside the timing) every close pair of meshes is checked for
-  // crossing surfaces: "crossed" counts pair-steps ending so (a mesh has no depth to
+  // crossing surfaces: "crossed" counts pair-steps of two bunnies ending so, "in fixed"
+  // those of a bunny in the table or the tracked box (a mesh has no depth to
   // report), "waited" the steps in which a group ended its step early (the event cap, or
   // a mesh pair crossing at once: docs/dynamics.md, "Mesh pairs").
-  std::printf("\n== bunnies (arphys): the paper's scene, dt 10 ms, %.1f s, %d run(s)\n%-12s %4s %8s %10s %16s %10s %8s %7s\n",
-              duration, runs, "scene", "run", "bodies", "ms/step", "real-time factor", "impacts", "crossed", "waited");
+  std::printf("\n== bunnies (arphys): the paper's scene, dt 10 ms, %.1f s, %d run(s)\n%-12s %4s %8s %10s %16s %10s %8s %8s %7s\n",
+              duration, runs, "scene", "run", "bodies", "ms/step", "real-time factor", "impacts", "crossed", "in fixed", "waited");
   for (const std::string name : {"bunnies20", "bunnies100"}) {
     const auto scene = arphys::config::load_scene(configs + "/scenes/" + name + ".yaml");
     std::vector<double> ms_per_step;
@@ -364,7 +373,7 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
       for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
         if (world.bodies()[i].is_dynamic()) world.body(i).v_WC_m_s.x() += start_velocity_perturbation_m_s(i, run);
       const long steps = std::lround(duration / scene.time_step_s);
-      long impacts = 0, done = 0, crossed = 0, waited = 0;
+      long impacts = 0, done = 0, crossed = 0, in_fixed = 0, waited = 0;
       double wall = 0;  // seconds in World::step
       const auto start = Clock::now();
       // A wall-clock cap: a scene that slows to a crawl is reported, not waited for.
@@ -374,16 +383,18 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
         wall += std::chrono::duration<double>(Clock::now() - step_start).count();
         impacts += report.events + report.impacts_resolved;
         waited += report.events_capped;
-        crossed += crossing_mesh_pairs(world);
+        const Crossings crossing = crossing_pairs(world);
+        crossed += crossing.meshes;
+        in_fixed += crossing.with_fixed;
         ++done;
       }
       const double simulated = done * scene.time_step_s;
       ms_per_step.push_back(1e3 * wall / done);
-      std::printf("%-12s %4d %8zu %10.3f %16.2f %10ld %8ld %7ld%s\n", name.c_str(), run, world.bodies().size(),
-                  1e3 * wall / done, simulated / wall, impacts, crossed, waited,
+      std::printf("%-12s %4d %8zu %10.3f %16.2f %10ld %8ld %8ld %7ld%s\n", name.c_str(), run, world.bodies().size(),
+                  1e3 * wall / done, simulated / wall, impacts, crossed, in_fixed, waited,
                   done < steps ? ("  (stopped after 120 s of wall time at t = " + std::to_string(simulated) + " s)").c_str() : "");
       csv.out << name << "," << world.bodies().size() << "," << 1e3 * wall / done << "," << simulated / wall << "," << impacts
-              << "," << simulated << "," << run << "," << crossed << "," << waited << "\n";
+              << "," << simulated << "," << run << "," << crossed << "," << waited << "," << in_fixed << "\n";
       std::fflush(stdout);
     }
     if (runs > 1)
@@ -437,7 +448,7 @@ int main(int argc, char** argv) {
         run_drop(engines, quick ? std::vector<int>{10, 100} : drop_counts, quick ? 0.3 : drop_seconds, pile_runs, csv,
                  out + "/dyn_drop_pile_runs.csv");
       } else if (scene == "bunnies") {
-        Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run,crossed_pair_steps,waited_steps");
+        Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run,crossed_pair_steps,waited_steps,in_fixed_pair_steps");
         run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, bunny_runs > 0 ? bunny_runs : (quick ? 1 : 3), csv);
       } else {
         std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str());

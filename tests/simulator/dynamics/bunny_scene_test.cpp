@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <string>
+#include <vector>
 
 #include "configs/loader/scene_config.hpp"
 #include "simulator/dynamics/scene_world.hpp"
