@@ -569,7 +569,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
             q[i] = apply(J[i], ri, velocities) + slack;
           }
         };
-        std::vector<char> contradictory(n, 0);
+        std::vector<char> contradictory;  // (sized only when a solve fails: this is the hot path)
         fill_q(Relaxation::kNone, contradictory);
         // Frictional islands start from the rows that pushed (in the previous step, then in
         // the previous round), not from every violated row (see solve_dual_exact).
@@ -593,6 +593,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           // itself: 1,637 pair-steps ended crossed in 300 steps, 2-7 s per step.)
           result.infeasible = true;
           bool any_contradictory = false;
+          contradictory.assign(n, 0);
           for (int k = 0; k < n; ++k) {
             contradictory[k] = dual.lambda[k] * dual.ridge > 1e-7;  // m/s of its demand met by the ridge
             any_contradictory |= contradictory[k] != 0;

@@ -701,11 +701,14 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
         // moving, waiting costs only time and the pair never crosses.
         if (deepening) {
           const double shallow = shallow_fraction(participants, next, cache);
-          const bool tracked_moving = std::any_of(participants.begin(), participants.end(), [&](int i) {
-            const RigidBody& body = bodies_[i];
-            return body.motion == BodyMotion::kKinematic && (body.v_WC_m_s.squaredNorm() > 0 || body.w_W_rad_s.squaredNorm() > 0);
-          });
-          if (shallow > 0 || !cut_at_start || !tracked_moving) tau = std::min(tau, shallow);
+          const bool would_wait = shallow == 0 && cut_at_start;
+          const auto tracked_moving = [&] {
+            return std::any_of(participants.begin(), participants.end(), [&](int i) {
+              const RigidBody& body = bodies_[i];
+              return body.motion == BodyMotion::kKinematic && (body.v_WC_m_s.squaredNorm() > 0 || body.w_W_rad_s.squaredNorm() > 0);
+            });
+          };
+          if (!would_wait || !tracked_moving()) tau = std::min(tau, shallow);
         }
         break;
       }
@@ -786,7 +789,8 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       if (++events >= options_.max_events_per_step) outcome.capped = true;
       // A second cut at the start of what is left: nothing has moved since the last, the
       // step's force is spent, and the solve would give the same motion until the cap (a
-      // mesh pair crossing at once, check_mesh_crossing): the group's step ends here.
+      // mesh pair crossing at once, check_mesh_crossing, with nothing tracked moving: see
+      // round 3 above): the group's step ends here.
       if (tau == 0 && cut_at_start) outcome.capped = true;
       cut_at_start = tau == 0;
       cut = {u, next, tau, {}};

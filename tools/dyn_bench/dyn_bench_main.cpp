@@ -362,7 +362,7 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
   // crossing surfaces: "crossed" counts pair-steps of two bunnies ending so, "in fixed"
   // those of a bunny in the table or the tracked box (a mesh has no depth to
   // report), "waited" the steps in which a group ended its step early (the event cap, or
-  // a mesh pair crossing at once: docs/dynamics.md, "Mesh pairs").
+  // a mesh pair crossing at once while nothing tracked moves: docs/dynamics.md, "Mesh pairs").
   std::printf("\n== bunnies (arphys): the paper's scene, dt 10 ms, %.1f s, %d run(s)\n%-12s %4s %8s %10s %16s %10s %8s %8s %7s\n",
               duration, runs, "scene", "run", "bodies", "ms/step", "real-time factor", "impacts", "crossed", "in fixed", "waited");
   for (const std::string name : {"bunnies20", "bunnies100"}) {
