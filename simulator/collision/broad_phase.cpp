@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 namespace arphys::collision {
 
@@ -43,19 +45,70 @@ Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eige
   return box;
 }
 
+namespace {
+
+bool overlap(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
+  return a.min().x() <= b.max().x() && b.min().x() <= a.max().x() && a.min().y() <= b.max().y() &&
+         b.min().y() <= a.max().y() && a.min().z() <= b.max().z() && b.min().z() <= a.max().z();
+}
+
+// A box with a NaN coordinate overlaps nothing; in the sweep it would break the order
+// (and stop a scan early, hiding pairs). An empty one neither.
+bool takes_part(const Eigen::AlignedBox3d& box) {
+  return !(box.min().array().isNaN().any() || box.max().array().isNaN().any() || box.isEmpty());
+}
+
+}  // namespace
+
+std::vector<std::pair<int, int>> overlapping_pairs_involving(const std::vector<Eigen::AlignedBox3d>& boxes,
+                                                             const std::vector<char>& selected) {
+  if (selected.size() != boxes.size())
+    throw std::invalid_argument("overlapping_pairs_involving: " + std::to_string(selected.size()) + " flags for " +
+                                std::to_string(boxes.size()) + " boxes");
+  const int n = static_cast<int>(boxes.size());
+  std::vector<int> chosen;
+  for (int i = 0; i < n; ++i)
+    if (selected[i]) chosen.push_back(i);
+  std::vector<std::pair<int, int>> pairs;
+  if (8 * chosen.size() > boxes.size()) {
+    for (const auto& pair : overlapping_pairs(boxes))
+      if (selected[pair.first] || selected[pair.second]) pairs.push_back(pair);
+    return pairs;
+  }
+  std::vector<char> part(n);
+  for (int i = 0; i < n; ++i) part[i] = takes_part(boxes[i]);
+  for (const int i : chosen) {
+    if (!part[i]) continue;
+    for (int j = 0; j < n; ++j)
+      // A pair of two selected boxes is found once, from its first.
+      if (j != i && part[j] && (!selected[j] || j > i) && overlap(boxes[i], boxes[j]))
+        pairs.emplace_back(std::min(i, j), std::max(i, j));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+std::vector<std::pair<int, int>> overlapping_pairs_updated(const std::vector<Eigen::AlignedBox3d>& boxes,
+                                                           const std::vector<char>& changed,
+                                                           const std::vector<std::pair<int, int>>& before) {
+  const std::vector<std::pair<int, int>> added = overlapping_pairs_involving(boxes, changed);
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(before.size() + added.size());
+  for (const auto& pair : before)
+    if (!changed[pair.first] && !changed[pair.second]) pairs.push_back(pair);
+  const std::size_t kept = pairs.size();
+  pairs.insert(pairs.end(), added.begin(), added.end());
+  std::inplace_merge(pairs.begin(), pairs.begin() + static_cast<std::ptrdiff_t>(kept), pairs.end());
+  return pairs;
+}
+
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes) {
-  const auto overlap = [](const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
-    return a.min().x() <= b.max().x() && b.min().x() <= a.max().x() && a.min().y() <= b.max().y() &&
-           b.min().y() <= a.max().y() && a.min().z() <= b.max().z() && b.min().z() <= a.max().z();
-  };
-  // A box with a NaN coordinate overlaps nothing; in the sweep it would break the order
-  // (and stop a scan early, hiding pairs). An empty one neither.
   std::vector<int> order;
   order.reserve(boxes.size());
   double extent_sum = 0;
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
     const Eigen::AlignedBox3d& box = boxes[i];
-    if (box.min().array().isNaN().any() || box.max().array().isNaN().any() || box.isEmpty()) continue;
+    if (!takes_part(box)) continue;
     order.push_back(i);
     if (std::isfinite(box.sizes().y())) extent_sum += box.sizes().y();
   }

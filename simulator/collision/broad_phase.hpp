@@ -22,4 +22,19 @@ Eigen::AlignedBox3d swept_bounds(const geometry::ScrewMotion& motion, const Eige
 // with a NaN coordinate overlaps nothing.
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes);
 
+// The overlapping pairs (i < j, sorted) with at least one box in `selected` (one flag
+// per box): those boxes are tested against all, or, when they are many (beyond an
+// eighth), the full sweep's answer is filtered. For the re-solves of a step, which
+// change a few bodies' motions among many (sweeping every box of a 1000-box pile again
+// was a twentieth of its step).
+std::vector<std::pair<int, int>> overlapping_pairs_involving(const std::vector<Eigen::AlignedBox3d>& boxes,
+                                                             const std::vector<char>& selected);
+
+// The same answer as overlapping_pairs(boxes), given its answer `before` for boxes that
+// differed only where `changed` is set: the pairs of unchanged boxes carry over, the
+// changed boxes' pairs are found by overlapping_pairs_involving.
+std::vector<std::pair<int, int>> overlapping_pairs_updated(const std::vector<Eigen::AlignedBox3d>& boxes,
+                                                           const std::vector<char>& changed,
+                                                           const std::vector<std::pair<int, int>>& before);
+
 }  // namespace arphys::collision

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "simulator/dynamics/disjoint_sets.hpp"
 #include "simulator/dynamics/incremental_cholesky.hpp"
 
 namespace arphys::dynamics {
@@ -303,20 +304,15 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
 
 // Union-find over dynamic bodies: rows that share a body belong to one island.
 std::vector<std::vector<int>> islands(int bodies, const std::vector<ContactRow>& rows) {
-  std::vector<int> parent(bodies);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
+  DisjointSets sets(bodies);
   for (const auto& row : rows)
-    if (row.body_a >= 0 && row.body_b >= 0) parent[find(row.body_a)] = find(row.body_b);
+    if (row.body_a >= 0 && row.body_b >= 0) sets.join(row.body_a, row.body_b);
   std::vector<int> island_of(bodies, -1);
   std::vector<std::vector<int>> groups;
   for (int r = 0; r < static_cast<int>(rows.size()); ++r) {
     const int body = rows[r].body_a >= 0 ? rows[r].body_a : rows[r].body_b;
     if (body < 0) continue;
-    const int root = find(body);
+    const int root = sets.find(body);
     if (island_of[root] < 0) {
       island_of[root] = static_cast<int>(groups.size());
       groups.emplace_back();

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <optional>
 #include <set>
@@ -11,6 +10,7 @@
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
+#include "simulator/dynamics/disjoint_sets.hpp"
 #include "simulator/dynamics/manifold_reduction.hpp"
 
 namespace arphys::dynamics {
@@ -264,83 +264,105 @@ std::vector<Contact> World::impact_contacts(const ImpactMap& impacts) const {
   return contacts;
 }
 
+World::SolveSetup World::prepare_solve(double h, double force_h, const std::vector<int>& participants,
+                                      const std::vector<Contact>& resting) const {
+  SolveSetup setup;
+  setup.h = h;
+  setup.unknown_of_slot.assign(participants.size(), -1);
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = bodies_[participants[s]];
+    if (!body.is_dynamic()) continue;
+    setup.unknown_of_slot[s] = static_cast<int>(setup.u_unconstrained.size());
+    setup.slot_of_unknown.push_back(static_cast<int>(s));
+    setup.body_of_unknown.push_back(participants[s]);
+    BodyInertia in;
+    in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
+    in.inverse_inertia_W = body.inverse_inertia_W();
+    in.com_W = body.com_W();
+    setup.inertia.push_back(in);
+    // Unconstrained: gravity, and the gyroscopic term I dw/dt = -w x I w, implicitly.
+    BodyVelocity v;
+    v.v_WC_m_s = body.v_WC_m_s + force_h * options_.gravity_m_s2;
+    v.w_W_rad_s = gyroscopic_step(body.inertia_W(), body.w_W_rad_s, force_h);
+    setup.u_unconstrained.push_back(v);
+  }
+  setup.resting_rows.reserve(resting.size());
+  for (const Contact& c : resting) {
+    setup.resting_rows.push_back(row_of(c, setup, participants));
+    setup.deepest_m = std::max(setup.deepest_m, -c.feature.distance_m);
+  }
+  return setup;
+}
+
+ContactRow World::row_of(const Contact& c, const SolveSetup& setup, const std::vector<int>& participants) const {
+  const auto unknown = [&](int body) {
+    const int slot = slot_of(participants, body);
+    return slot < 0 ? -1 : setup.unknown_of_slot[slot];
+  };
+  const double h = setup.h;
+  const RigidBody& a = bodies_[c.body_a];
+  const RigidBody& b = bodies_[c.body_b];
+  ContactRow row;
+  row.body_a = unknown(c.body_a);
+  row.body_b = unknown(c.body_b);
+  row.normal_W = c.feature.normal_W;
+  row.point_W = row_point(c.feature);
+  if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
+  if (!b.is_dynamic()) row.known_normal_velocity_m_s += row.normal_W.dot(b.velocity_of_point(row.point_W));
+  const double gap = c.feature.distance_m;
+  // Close at most to the resting gap within h; undo an overlap, but not violently.
+  row.min_normal_velocity_m_s = std::min(-(gap - options_.contact_gap_m) / h, options_.max_depenetration_speed_m_s);
+  // An impact: closing fast enough to bounce and, at that speed, meeting within h.
+  // The bounce then happens at the step boundary, as the velocity update of a
+  // symplectic Euler step, which keeps an elastic ball's apex.
+  const double approach = row.normal_W.dot(b.velocity_of_point(row.point_W) - a.velocity_of_point(row.point_W));
+  if (approach < -options_.restitution_threshold_m_s && -approach * h >= gap - options_.contact_gap_m)
+    row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
+  row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, c.min_normal_velocity_m_s);
+  row.friction = combined_friction(a, b);
+  row.pushed_before = c.pushed_before;
+  return row;
+}
+
 std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vector<int>& participants,
+                                       const std::vector<Contact>& resting, const ImpactMap& impacts,
+                                       std::vector<Contact>& solved, StepReport& report, bool* infeasible,
+                                       SolvedIslands* memo) const {
+  return solve(prepare_solve(h, force_h, participants, resting), participants, resting, impacts, solved, report,
+               infeasible, memo);
+}
+
+std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vector<int>& participants,
                                        const std::vector<Contact>& resting, const ImpactMap& impacts,
                                        std::vector<Contact>& solved, StepReport& report, bool* infeasible,
                                        SolvedIslands* memo) const {
   solved = resting;
   const std::vector<Contact> meeting = impact_contacts(impacts);
   solved.insert(solved.end(), meeting.begin(), meeting.end());
-  // The participants' dynamic bodies are the unknowns, in order (slot: their place in
-  // `participants`, whose velocities are returned).
-  std::vector<int> unknown_of_slot(participants.size(), -1);
-  std::vector<int> slot_of_unknown;
-  std::vector<BodyInertia> inertia;
-  std::vector<BodyVelocity> u;
-  for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = bodies_[participants[s]];
-    if (!body.is_dynamic()) continue;
-    unknown_of_slot[s] = static_cast<int>(u.size());
-    slot_of_unknown.push_back(static_cast<int>(s));
-    BodyInertia in;
-    in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
-    in.inverse_inertia_W = body.inverse_inertia_W();
-    in.com_W = body.com_W();
-    inertia.push_back(in);
-    // Unconstrained: gravity, and the gyroscopic term I dw/dt = -w x I w, implicitly.
-    BodyVelocity v;
-    v.v_WC_m_s = body.v_WC_m_s + force_h * options_.gravity_m_s2;
-    v.w_W_rad_s = gyroscopic_step(body.inertia_W(), body.w_W_rad_s, force_h);
-    u.push_back(v);
-  }
-  const auto unknown = [&](int body) {
-    const int slot = slot_of(participants, body);
-    return slot < 0 ? -1 : unknown_of_slot[slot];
-  };
+  std::vector<BodyVelocity> u = setup.u_unconstrained;
   std::vector<ContactRow> rows;
   rows.reserve(solved.size());
-  double deepest = 0;
-  for (const Contact& c : solved) {
-    const RigidBody& a = bodies_[c.body_a];
-    const RigidBody& b = bodies_[c.body_b];
-    ContactRow row;
-    row.body_a = unknown(c.body_a);
-    row.body_b = unknown(c.body_b);
-    row.normal_W = c.feature.normal_W;
-    row.point_W = row_point(c.feature);
-    if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
-    if (!b.is_dynamic()) row.known_normal_velocity_m_s += row.normal_W.dot(b.velocity_of_point(row.point_W));
-    const double gap = c.feature.distance_m;
-    deepest = std::max(deepest, -gap);
-    // Close at most to the resting gap within h; undo an overlap, but not violently.
-    row.min_normal_velocity_m_s = std::min(-(gap - options_.contact_gap_m) / h, options_.max_depenetration_speed_m_s);
-    // An impact: closing fast enough to bounce and, at that speed, meeting within h.
-    // The bounce then happens at the step boundary, as the velocity update of a
-    // symplectic Euler step, which keeps an elastic ball's apex.
-    const double approach = row.normal_W.dot(b.velocity_of_point(row.point_W) - a.velocity_of_point(row.point_W));
-    if (approach < -options_.restitution_threshold_m_s && -approach * h >= gap - options_.contact_gap_m)
-      row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
-    row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, c.min_normal_velocity_m_s);
-    row.friction = combined_friction(a, b);
-    row.pushed_before = c.pushed_before;
-    rows.push_back(row);
+  rows.insert(rows.end(), setup.resting_rows.begin(), setup.resting_rows.end());
+  double deepest = setup.deepest_m;
+  for (const Contact& c : meeting) {
+    rows.push_back(row_of(c, setup, participants));
+    deepest = std::max(deepest, -c.feature.distance_m);
   }
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
-  const std::vector<BodyVelocity> u_unconstrained = u;
-  std::vector<int> body_of_unknown(u.size());
-  for (std::size_t k = 0; k < u.size(); ++k) body_of_unknown[k] = participants[slot_of_unknown[k]];
-  const ContactSolveResult result = solve_contacts(inertia, u, rows, options_.solver, memo, &body_of_unknown);
+  const std::vector<BodyVelocity>& u_unconstrained = setup.u_unconstrained;
+  const std::vector<int>& slot_of_unknown = setup.slot_of_unknown;
+  std::vector<int> body_of_unknown = setup.body_of_unknown;
+  const ContactSolveResult result = solve_contacts(setup.inertia, u, rows, options_.solver, memo, &body_of_unknown);
   // Launch guard. Contacts are passive: with restitution <= 1 a solve can at most
   // reverse (and pass on) the fastest motion among the bodies it couples, plus what
   // moving non-dynamic bodies and depenetration impose. A body left faster than twice
   // that (point speed |v| + |w| r), or non-finite, marks a solver failure (a degenerate
   // squeeze, an ill-conditioned frictional island): it is slowed to the bound, never
   // launched, never NaN, and counted.
-  std::vector<int> island(u.size());
-  for (std::size_t k = 0; k < u.size(); ++k) island[k] = static_cast<int>(k);
-  const std::function<int(int)> root = [&](int k) { return island[k] == k ? k : island[k] = root(island[k]); };
+  DisjointSets island(static_cast<int>(u.size()));
+  const auto root = [&](int k) { return island.find(k); };
   for (const ContactRow& row : rows) {
-    if (row.body_a >= 0 && row.body_b >= 0) island[root(row.body_a)] = root(row.body_b);
+    if (row.body_a >= 0 && row.body_b >= 0) island.join(row.body_a, row.body_b);
   }
   std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
   for (std::size_t k = 0; k < u.size(); ++k) radius[k] = radius_m_[participants[slot_of_unknown[k]]];
@@ -666,13 +688,16 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // islands the impact touches. (At the step's start, shared with the first solve.)
     SolvedIslands fresh_islands;
     SolvedIslands& solved_islands = at_start ? first.islands : fresh_islands;
+    // (At the step's start the first solve is given: the setup is built if a re-solve needs it.)
+    std::optional<SolveSetup> setup;
+    if (!at_start) setup = prepare_solve(h, force_h, participants, resting);
     std::vector<BodyVelocity> u;
     bool squeezed = false;
     if (at_start) {
       u = first.u;
       outcome.contacts = first.solved;
     } else {
-      u = solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
+      u = solve(*setup, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
     }
     std::vector<geometry::Pose> next = candidate_poses(participants, u, elapsed, h);
     double tau = 1.0;
@@ -681,10 +706,31 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     ImpactCache fresh;
     if (!at_start) fresh = carry_over_cut(participants, u, next, cut);
     ImpactCache& cache = at_start ? first_ccd : fresh;
+    // The participants' swept boxes and their overlapping pairs, for the end poses they
+    // were swept to: a re-solve changes the motions of the islands it touches, so only
+    // those bodies are swept again (in a 1000-box pile, one group, sweeping all of them
+    // again in every round was a twentieth of the step).
+    std::vector<Eigen::AlignedBox3d> swept_boxes(participants.size());
+    std::vector<geometry::Pose> swept_to;
+    std::vector<std::pair<int, int>> swept_pairs;
+    const auto sweep = [&] {
+      std::vector<char> changed(participants.size(), 1);
+      for (std::size_t s = 0; s < participants.size(); ++s) {
+        if (!swept_to.empty() && next[s].matrix() == swept_to[s].matrix()) {
+          changed[s] = 0;
+        } else {
+          swept_boxes[s] = swept_box(participants[s], next[s]);
+        }
+      }
+      swept_pairs = swept_to.empty() ? collision::overlapping_pairs(swept_boxes)
+                                      : collision::overlapping_pairs_updated(swept_boxes, changed, swept_pairs);
+      swept_to = next;
+    };
     for (int round = 0;; ++round) {
       ImpactMap meeting;
       bool deepening = false;
-      tau = earliest_impact(participants, next, &resting_pairs, &meeting, &cache, &deepening, report);
+      sweep();
+      tau = earliest_impact(participants, next, &resting_pairs, &meeting, &cache, &deepening, report, &swept_pairs);
       // A squeezed body overlaps whatever the solve does: reported, not chased.
       if (squeezed) deepening = false;
       if (tau >= 1.0 && !deepening) break;
@@ -774,8 +820,9 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           break;
         }
       }
+      if (!setup) setup = prepare_solve(h, force_h, participants, resting);
       std::vector<BodyVelocity> u_resolved =
-          solve(h, force_h, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
+          solve(*setup, participants, resting, impacts, outcome.contacts, report, &squeezed, &solved_islands);
       if (squeezed && tau >= 1.0) break;  // asked only to stop digging in, and it cannot be had: keep the motion
       std::vector<geometry::Pose> next_resolved = candidate_poses(participants, u_resolved, elapsed, h);
       keep_motions(participants, u, next, u_resolved, next_resolved);  // (after a cut, the end poses kept there)
@@ -795,9 +842,16 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       cut_at_start = tau == 0;
       cut = {u, next, tau, {}};
       if (at_start) {
+        // The group's answers move out of the step's first sweep (copied, they were a
+        // twentieth of a 1000-box pile's step); were the group stepped again after a
+        // merge, its pairs would be swept again, to the same answers.
         for (int i : participants)
-          for (auto it = cache.lower_bound({i, -1}); it != cache.end() && it->first.first == i; ++it)
-            if (slot_of(participants, it->first.second) >= 0) cut.answers.insert(cut.answers.end(), *it);
+          for (auto it = cache.lower_bound({i, -1}); it != cache.end() && it->first.first == i;)
+            if (slot_of(participants, it->first.second) >= 0) {
+              cut.answers.insert(cut.answers.end(), cache.extract(it++));
+            } else {
+              ++it;
+            }
       } else {
         cut.answers = std::move(fresh);
       }
@@ -851,11 +905,10 @@ StepReport World::step(double dt_s) {
   // together made every time of impact in a 1000-box pile re-solve and re-sweep all of
   // it.) A group whose re-solved motion strays into another's sweep is merged with it and
   // both are stepped again.
-  std::vector<int> parent(n);
-  for (int i = 0; i < n; ++i) parent[i] = i;
-  const std::function<int(int)> root = [&](int i) { return parent[i] == i ? i : parent[i] = root(parent[i]); };
+  DisjointSets groups(n);
+  const auto root = [&](int i) { return groups.find(i); };
   const auto join = [&](int i, int j) {
-    if (bodies_[i].is_dynamic() && bodies_[j].is_dynamic()) parent[std::max(root(i), root(j))] = std::min(root(i), root(j));
+    if (bodies_[i].is_dynamic() && bodies_[j].is_dynamic()) groups.join(i, j);
   };
   for (const Contact& c : resting) join(c.body_a, c.body_b);
   std::vector<Eigen::AlignedBox3d> swept0(n);  // each body's swept box over the first solve's motion
@@ -935,11 +988,20 @@ StepReport World::step(double dt_s) {
     // Did any group's motion reach into another's? (Only a group stepped on its own can
     // have left the sweep it was grouped by.)
     if (std::none_of(members.begin(), members.end(), [&](const auto& m) { return stepped[root(m.second)]; })) break;
+    // One group (a pile come to rest on itself): there is no other to reach.
+    const int first_root = root(dynamic.front());
+    if (std::all_of(dynamic.begin(), dynamic.end(), [&](int i) { return root(i) == first_root; })) break;
+    // The other groups' boxes are their first sweeps, which overlap no other group's: only
+    // a pair with a stepped group's body can join two groups.
     std::vector<Eigen::AlignedBox3d> boxes;
+    std::vector<char> of_stepped;
     boxes.reserve(dynamic.size());
-    for (int i : dynamic) boxes.push_back(moved[i]);
+    for (int i : dynamic) {
+      boxes.push_back(moved[i]);
+      of_stepped.push_back(stepped[root(i)]);
+    }
     pending.clear();
-    for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
+    for (const auto& [p, q] : collision::overlapping_pairs_involving(boxes, of_stepped)) {
       const int i = dynamic[p], j = dynamic[q];
       if (root(i) == root(j)) continue;
       join(i, j);

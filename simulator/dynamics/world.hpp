@@ -200,6 +200,28 @@ class World {
   std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<int>& participants,
                                   const std::vector<Contact>& resting, const ImpactMap& impacts, std::vector<Contact>& solved,
                                   StepReport& report, bool* infeasible = nullptr, SolvedIslands* memo = nullptr) const;
+  // What a solve needs before the impacts are known: the unknowns (the dynamic
+  // participants), their inertia and unconstrained velocities, and the resting contacts'
+  // rows. The same for every re-solve at the same poses (a group's rounds): built once
+  // for them (rebuilt every round, the rows were a twentieth of a 1000-box pile's step).
+  struct SolveSetup {
+    double h = 0;
+    std::vector<int> unknown_of_slot, slot_of_unknown, body_of_unknown;
+    std::vector<BodyInertia> inertia;
+    std::vector<BodyVelocity> u_unconstrained;
+    std::vector<ContactRow> resting_rows;
+    double deepest_m = 0;  // deepest overlap among the resting contacts
+  };
+  SolveSetup prepare_solve(double h, double force_h, const std::vector<int>& participants,
+                           const std::vector<Contact>& resting) const;
+  // A contact's constraint row for a solve over h (setup.h): its bounds from its gap, its
+  // bounce and its own lower bound.
+  ContactRow row_of(const Contact& contact, const SolveSetup& setup, const std::vector<int>& participants) const;
+  // solve() with the setup built (from the same participants and resting contacts).
+  std::vector<BodyVelocity> solve(const SolveSetup& setup, const std::vector<int>& participants,
+                                  const std::vector<Contact>& resting, const ImpactMap& impacts,
+                                  std::vector<Contact>& solved, StepReport& report, bool* infeasible,
+                                  SolvedIslands* memo) const;
   // Where the participants would be after h from now (elapsed into the step) with
   // velocities u (by participant).
   std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,

@@ -110,6 +110,55 @@ TEST(BroadPhase, PileWithOddBoxesMatchesBruteForce) {
   EXPECT_GT(pairs.size(), 1000u);
 }
 
+// The re-solves of a step move a few boxes of many: the moved boxes' pairs must be the
+// brute force's that involve them, and with the pairs carried over the fresh sweep's, whatever the moved boxes become (moved
+// away, onto others, NaN, empty, valid again) and with pairs of two moved boxes found
+// once; with many moved, the full sweep.
+TEST(BroadPhase, OverlappingPairsUpdatedMatchAFreshSweep) {
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int layer = 0; layer < 4; ++layer)
+    for (int gy = 0; gy < 8; ++gy)
+      for (int gx = 0; gx < 8; ++gx) {
+        const Eigen::Vector3d c(0.35 * gx + jitter(rng), 0.35 * gy + jitter(rng), 0.2 + 0.35 * layer + jitter(rng));
+        boxes.emplace_back(c - Eigen::Vector3d::Constant(0.175), c + Eigen::Vector3d::Constant(0.175));
+      }
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
+  boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.05));  // a floor
+  boxes[40] = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(nan));
+  const std::vector<std::pair<int, int>> before = overlapping_pairs(boxes);
+  std::vector<char> changed(boxes.size(), 0);
+  const auto change = [&](int i, const Eigen::AlignedBox3d& box) {
+    boxes[i] = box;
+    changed[i] = 1;
+  };
+  change(3, boxes[3].translated(Eigen::Vector3d(0.1, 0, 0)));    // onto its neighbour
+  change(4, boxes[4].translated(Eigen::Vector3d(-0.1, 0, 0)));   // onto the moved one: a pair of two changed
+  change(10, boxes[10].translated(Eigen::Vector3d(0, 0, 5)));    // lifted clear of everything
+  change(40, boxes[41]);                                         // NaN before, valid now
+  change(50, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(nan)));
+  change(60, Eigen::AlignedBox3d());                             // empty
+  change(static_cast<int>(boxes.size()) - 1,
+         Eigen::AlignedBox3d(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.3)));  // the floor rises
+  const auto updated = overlapping_pairs_updated(boxes, changed, before);
+  EXPECT_EQ(updated, brute_force(boxes));
+  EXPECT_NE(updated, before);
+  EXPECT_TRUE(std::binary_search(updated.begin(), updated.end(), std::make_pair(3, 4)));
+  const auto involving_changed = [&] {
+    std::vector<std::pair<int, int>> pairs;
+    for (const auto& pair : brute_force(boxes))
+      if (changed[pair.first] || changed[pair.second]) pairs.push_back(pair);
+    return pairs;
+  };
+  EXPECT_EQ(overlapping_pairs_involving(boxes, changed), involving_changed());
+  // Many changed: the full sweep, the same answer.
+  for (std::size_t i = 0; i < boxes.size(); i += 2) change(static_cast<int>(i), boxes[i].translated(Eigen::Vector3d(0.05, 0.05, 0)));
+  EXPECT_EQ(overlapping_pairs_updated(boxes, changed, before), brute_force(boxes));
+  EXPECT_EQ(overlapping_pairs_involving(boxes, changed), involving_changed());
+  EXPECT_THROW(overlapping_pairs_updated(boxes, std::vector<char>(3, 0), before), std::invalid_argument);
+}
+
 // The sweep runs within strips along y about a box wide: boxes spanning several strips
 // (reported once), clusters a kilometre apart (strips then widen rather than number in
 // the millions), and boxes ending exactly on a strip boundary.
