@@ -1,6 +1,7 @@
 #include "simulator/collision/broad_phase.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -105,27 +106,34 @@ std::vector<std::pair<int, int>> overlapping_pairs_updated(const std::vector<Eig
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes) {
   std::vector<int> order;
   order.reserve(boxes.size());
-  double extent_sum = 0;
+  Eigen::Vector3d extent_sum = Eigen::Vector3d::Zero();
+  int finite_count = 0;
   for (int i = 0; i < static_cast<int>(boxes.size()); ++i) {
     const Eigen::AlignedBox3d& box = boxes[i];
     if (!takes_part(box)) continue;
     order.push_back(i);
-    if (std::isfinite(box.sizes().y())) extent_sum += box.sizes().y();
+    if (box.sizes().allFinite()) {
+      extent_sum += box.sizes();
+      ++finite_count;
+    }
   }
-  // Sweep and prune along x within strips along y about as wide as a box: in a pile
-  // spread over the floor, a box's x interval meets hundreds of others, its strips'
-  // share of them a tenth (the plain sweep was a tenth of a 1000-box pile's step).
-  // A box is in every strip it reaches; a pair is reported in the first strip both
-  // are in. Boxes much wider than a strip (a floor, a table) are tested against all.
-  const double strip_m = std::max(extent_sum / std::max<std::size_t>(order.size(), 1), 1e-9);
+  // Sweep and prune along x within cells of a grid over y and z about as wide as a box.
+  // A pile spread over the floor and stacked in columns: a box's x interval meets
+  // hundreds of others, those in strips along y still its whole column and the next
+  // (a strip's sweep was a twentieth of a 1000-box pile's step); a cell's, its
+  // neighbours. A box is in every cell it reaches; a pair is reported in the first cell
+  // both are in. Boxes much larger than a cell (a floor, a table) are tested against all.
+  const Eigen::Vector3d mean_extent = extent_sum / std::max(finite_count, 1);
   std::vector<int> narrow, wide;
-  double y0 = std::numeric_limits<double>::infinity(), y1 = -y0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const int i : order) {
     const Eigen::AlignedBox3d& box = boxes[i];
-    if (std::isfinite(box.min().y()) && std::isfinite(box.max().y()) && box.sizes().y() <= 16 * strip_m) {
+    const bool small = box.sizes().allFinite() && box.sizes().y() <= 16 * mean_extent.y() + 1e-9 &&
+                       box.sizes().z() <= 16 * mean_extent.z() + 1e-9;
+    if (small) {
       narrow.push_back(i);
-      y0 = std::min(y0, box.min().y());
-      y1 = std::max(y1, box.max().y());
+      lo = lo.cwiseMin(box.min());
+      hi = hi.cwiseMax(box.max());
     } else {
       wide.push_back(i);
     }
@@ -139,37 +147,55 @@ std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::Alig
       if (overlap(boxes[wide[w]], boxes[i])) report(wide[w], i);
   }
   if (!narrow.empty()) {
-    // (Clusters far apart would make many empty strips: at most four per box.)
-    const double width = std::max(strip_m, (y1 - y0) / (4.0 * static_cast<double>(narrow.size())));
-    const auto strip = [&](double y) { return static_cast<int>((y - y0) / width); };
-    const int strips = strip(y1) + 1;
+    // At most about 2 sqrt(n) cells along each axis (clusters far apart would make
+    // many empty ones): at most four per box.
+    const double per_axis = std::ceil(2.0 * std::sqrt(static_cast<double>(narrow.size())));
+    const double width_y = std::max({mean_extent.y(), (hi.y() - lo.y()) / per_axis, 1e-9});
+    const double width_z = std::max({mean_extent.z(), (hi.z() - lo.z()) / per_axis, 1e-9});
+    const auto cell_y = [&](double y) { return static_cast<int>((y - lo.y()) / width_y); };
+    const auto cell_z = [&](double z) { return static_cast<int>((z - lo.z()) / width_z); };
+    const int cells_z = cell_z(hi.z()) + 1;
+    const int cells = (cell_y(hi.y()) + 1) * cells_z;
     std::sort(narrow.begin(), narrow.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
-    // The strips' boxes, contiguous and in sweep order (a box's entries follow the
-    // x order within each strip; indirect access to the boxes doubled the scan's cost).
-    std::vector<int> start(strips + 1, 0);
+    // Each box's first cell along y and z (where a pair is reported), and its last.
+    std::vector<std::array<int, 4>> span(boxes.size());
     for (const int i : narrow)
-      for (int s = strip(boxes[i].min().y()); s <= strip(boxes[i].max().y()); ++s) ++start[s + 1];
+      span[i] = {cell_y(boxes[i].min().y()), cell_z(boxes[i].min().z()), cell_y(boxes[i].max().y()),
+                 cell_z(boxes[i].max().z())};
+    // The cells' boxes, contiguous and in sweep order (a box's entries follow the x order
+    // within each cell; indirect access to the boxes doubled the scan's cost).
+    std::vector<int> start(cells + 1, 0);
+    for (const int i : narrow)
+      for (int y = span[i][0]; y <= span[i][2]; ++y)
+        for (int z = span[i][1]; z <= span[i][3]; ++z) ++start[y * cells_z + z + 1];
     std::partial_sum(start.begin(), start.end(), start.begin());
     std::vector<int> fill(start.begin(), start.end() - 1);
     std::vector<Eigen::AlignedBox3d> entry_box(start.back());
     std::vector<int> entry_index(start.back());
     for (const int i : narrow)
-      for (int s = strip(boxes[i].min().y()); s <= strip(boxes[i].max().y()); ++s) {
-        entry_box[fill[s]] = boxes[i];
-        entry_index[fill[s]++] = i;
-      }
-    for (int s = 0; s < strips; ++s)
-      for (int k = start[s]; k < start[s + 1]; ++k) {
+      for (int y = span[i][0]; y <= span[i][2]; ++y)
+        for (int z = span[i][1]; z <= span[i][3]; ++z) {
+          const int c = y * cells_z + z;
+          entry_box[fill[c]] = boxes[i];
+          entry_index[fill[c]++] = i;
+        }
+    for (int c = 0; c < cells; ++c) {
+      const int y = c / cells_z, z = c % cells_z;
+      for (int k = start[c]; k < start[c + 1]; ++k) {
         const Eigen::AlignedBox3d& a = entry_box[k];
         const double end_x = a.max().x();
-        const int first_a = strip(a.min().y());
-        for (int l = k + 1; l < start[s + 1] && entry_box[l].min().x() <= end_x; ++l) {
+        const std::array<int, 4>& span_a = span[entry_index[k]];
+        for (int l = k + 1; l < start[c + 1] && entry_box[l].min().x() <= end_x; ++l) {
           const Eigen::AlignedBox3d& b = entry_box[l];
           if (a.min().y() <= b.max().y() && b.min().y() <= a.max().y() && a.min().z() <= b.max().z() &&
-              b.min().z() <= a.max().z() && std::max(first_a, strip(b.min().y())) == s)
-            report(entry_index[k], entry_index[l]);
+              b.min().z() <= a.max().z()) {
+            const std::array<int, 4>& span_b = span[entry_index[l]];
+            if (std::max(span_a[0], span_b[0]) == y && std::max(span_a[1], span_b[1]) == z)
+              report(entry_index[k], entry_index[l]);
+          }
         }
       }
+    }
   }
   // Sorted by two counting passes (second index, then stably the first): linear in the
   // pairs, where a comparison sort of a pile's thousands of pairs cost as much as the sweep.

@@ -1,8 +1,8 @@
 #pragma once
 // Broad phase for many bodies over a time step: each body's swept axis-aligned box
-// (its bounding sphere carried along its screw motion), then sweep-and-prune along x,
-// within strips along y, to find the pairs whose swept boxes overlap. Only those go to
-// the narrow phase.
+// (its bounding sphere carried along its screw motion), then sweep-and-prune along x
+// within cells of a grid over y and z, to find the pairs whose swept boxes overlap.
+// Only those go to the narrow phase.
 #include <utility>
 #include <vector>
 

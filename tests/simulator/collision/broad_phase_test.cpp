@@ -159,23 +159,27 @@ TEST(BroadPhase, OverlappingPairsUpdatedMatchAFreshSweep) {
   EXPECT_THROW(overlapping_pairs_updated(boxes, std::vector<char>(3, 0), before), std::invalid_argument);
 }
 
-// The sweep runs within strips along y about a box wide: boxes spanning several strips
-// (reported once), clusters a kilometre apart (strips then widen rather than number in
-// the millions), and boxes ending exactly on a strip boundary.
-TEST(BroadPhase, StripsReportEachPairOnceAcrossBoundariesAndDistantClusters) {
+// The sweep runs within cells of a grid over y and z about a box wide: boxes spanning
+// several cells (reported once), clusters a kilometre apart along y and along z (cells
+// then widen rather than number in the millions), boxes ending exactly on a cell
+// boundary, a column stacked along z and a box tall enough to be tested against all.
+TEST(BroadPhase, CellsReportEachPairOnceAcrossBoundariesAndDistantClusters) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0, 2), size(0.05, 0.9);
   std::vector<Eigen::AlignedBox3d> boxes;
-  for (const double cluster_y : {0.0, 1000.0})
+  for (const Eigen::Vector3d& cluster : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 1000, 0), Eigen::Vector3d(0, 0, -1000)})
     for (int i = 0; i < 150; ++i) {
-      const Eigen::Vector3d lo(u(rng), cluster_y + u(rng), u(rng));
+      const Eigen::Vector3d lo = cluster + Eigen::Vector3d(u(rng), u(rng), u(rng));
       boxes.emplace_back(lo, lo + Eigen::Vector3d(size(rng), size(rng), size(rng)));
     }
   for (int i = 0; i < 20; ++i)  // touching along y: each ends where the next begins
     boxes.emplace_back(Eigen::Vector3d(5, 0.3 * i, 0), Eigen::Vector3d(5.2, 0.3 * (i + 1), 0.2));
+  for (int i = 0; i < 20; ++i)  // a column touching along z
+    boxes.emplace_back(Eigen::Vector3d(7, 1, 0.3 * i), Eigen::Vector3d(7.2, 1.2, 0.3 * (i + 1)));
+  boxes.emplace_back(Eigen::Vector3d(6.9, 0.9, -500), Eigen::Vector3d(7.1, 1.1, 500));  // a pole through the column
   const auto pairs = overlapping_pairs(boxes);
   EXPECT_EQ(pairs, brute_force(boxes));
-  EXPECT_GT(pairs.size(), 300u);
+  EXPECT_GT(pairs.size(), 400u);
 }
 
 }  // namespace
