@@ -490,14 +490,14 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     // Primitives only: their contact manifolds measure depth exactly; a mesh's can miss
     // a vertex that went in (a bunny dropped 2 cm onto a table then sank 0.6 mm).
     const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
-    const bool resting_slowly =
-        resting_pairs && primitive(a) && primitive(b) && relative_motion_m <= options_.contact_tolerance_m &&
-        std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
     // A re-solve changes the motions of the island it touches only; every other pair's
     // motions, and so its answer, are as in the last round.
     CachedImpact fresh;
     CachedImpact& query = cache ? cached(i, j) : fresh;
     if (!query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) {
+      const bool resting_slowly =
+          resting_pairs && primitive(a) && primitive(b) && relative_motion_m <= options_.contact_tolerance_m &&
+          std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
       const geometry::ScrewMotion& motion_a = motion_of(p);
       const geometry::ScrewMotion& motion_b = motion_of(q);
       query = {true, next[p], next[q],
@@ -593,9 +593,15 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
 }
 
 double World::shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                               const ImpactCache& cache) const {
+                               const ImpactCache& cache, const ImpactMap& meeting) const {
   double fraction = 1.0;
-  for (const auto& [pair, query] : cache) {
+  // (In the pairs' order, as the cache holds them: each pair halves from where the last
+  // one left the fraction.)
+  for (const auto& entry : meeting) {
+    const std::pair<int, int>& pair = entry.first;
+    const auto found = cache.find(pair);
+    if (found == cache.end()) continue;
+    const CachedImpact& query = found->second;
     if (!query.valid || !query.deepens) continue;
     const int p = slot_of(participants, pair.first), q = slot_of(participants, pair.second);
     if (p < 0 || q < 0) continue;  // another group's pair
@@ -746,7 +752,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
         // and is pushed apart in the next step (mesh_crossing_depth). With nothing tracked
         // moving, waiting costs only time and the pair never crosses.
         if (deepening) {
-          const double shallow = shallow_fraction(participants, next, cache);
+          const double shallow = shallow_fraction(participants, next, cache, meeting);
           const bool would_wait = shallow == 0 && cut_at_start;
           const auto tracked_moving = [&] {
             return std::any_of(participants.begin(), participants.end(), [&](int i) {
@@ -810,7 +816,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       if (chained) {
         // Cut at the meeting, but not past where a touching pair digs in (a mesh pair
         // crossing at once: cut at the start, cut past it, it crossed and sank unseen).
-        const double cut_at = deepening ? std::min(tau, shallow_fraction(participants, next, cache)) : tau;
+        const double cut_at = deepening ? std::min(tau, shallow_fraction(participants, next, cache, meeting)) : tau;
         // Such a pair crossing at once would make it a cut of nothing, and the same again
         // after it: the group's whole step would end there, step after step (a 20-bunny
         // scene froze for a second, a bunny on the table crossing at once while another
