@@ -22,6 +22,15 @@ Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis, double angle_rad)
 
 const ScrewMotion kStill{Pose::Identity(), Pose::Identity()};
 
+// A vector uniform in [-1, 1]^3 from the test's own generator (Eigen's Random draws on
+// std::rand, which other tests in the binary draw on too: the cases would depend on
+// which tests ran before).
+Eigen::Vector3d random_vector(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double x = u(rng), y = u(rng), z = u(rng);
+  return {x, y, z};
+}
+
 // A 2 x 2 x 0.1 m slab whose top face is z = 0 (the "table").
 CollisionMesh slab() {
   auto mesh = geometry::make_box_mesh({2, 2, 0.1});
@@ -153,8 +162,13 @@ TEST(ContinuousQuery, ResultDoesNotDependOnTheWorldFrame) {
   std::uniform_real_distribution<double> u(-1, 1);
   int hits = 0;
   for (int i = 0; i < 30; ++i) {
-    const Pose XB0 = at({u(rng), u(rng), u(rng)}, Eigen::Vector3d::Random(), u(rng) * 3);
-    const Pose XB1 = at({u(rng) * 0.2, u(rng) * 0.2, u(rng) * 0.2}, Eigen::Vector3d::Random(), u(rng) * 3);
+    // (Drawn in a fixed order: the order of a call's arguments is the compiler's.)
+    const Eigen::Vector3d p0{u(rng), u(rng), u(rng)}, axis0 = random_vector(rng);
+    const double angle0 = u(rng) * 3;
+    const Eigen::Vector3d p1{u(rng) * 0.2, u(rng) * 0.2, u(rng) * 0.2}, axis1 = random_vector(rng);
+    const double angle1 = u(rng) * 3;
+    const Pose XB0 = at(p0, axis0, angle0);
+    const Pose XB1 = at(p1, axis1, angle1);
     if (intersects(a, Pose::Identity(), b, XB0)) continue;
     const auto still = time_of_impact(a, kStill, b, ScrewMotion(XB0, XB1));
     const Pose W = at({0.5, -0.2, 0.3}, Eigen::Vector3d::UnitY(), 0.7);
@@ -195,9 +209,17 @@ TEST(ContinuousQuery, TwoRotatingBodiesAgreeWithSampledTruth) {
   std::uniform_real_distribution<double> u(-1, 1);
   int hits = 0;
   for (int i = 0; i < 60; ++i) {
-    const ScrewMotion ma(at({0, 0, 0}, Eigen::Vector3d::Random(), u(rng)), at({0, 0, 0}, Eigen::Vector3d::Random(), 3 * u(rng)));
-    const ScrewMotion mb(at({u(rng), u(rng), u(rng)}, Eigen::Vector3d::Random(), 3 * u(rng)),
-                         at({u(rng), u(rng), u(rng)}, Eigen::Vector3d::Random(), 3 * u(rng)));
+    // (Drawn in a fixed order: the order of a call's arguments is the compiler's.)
+    const Eigen::Vector3d axis_a0 = random_vector(rng);
+    const double angle_a0 = u(rng);
+    const Eigen::Vector3d axis_a1 = random_vector(rng);
+    const double angle_a1 = 3 * u(rng);
+    const Eigen::Vector3d p_b0{u(rng), u(rng), u(rng)}, axis_b0 = random_vector(rng);
+    const double angle_b0 = 3 * u(rng);
+    const Eigen::Vector3d p_b1{u(rng), u(rng), u(rng)}, axis_b1 = random_vector(rng);
+    const double angle_b1 = 3 * u(rng);
+    const ScrewMotion ma(at({0, 0, 0}, axis_a0, angle_a0), at({0, 0, 0}, axis_a1, angle_a1));
+    const ScrewMotion mb(at(p_b0, axis_b0, angle_b0), at(p_b1, axis_b1, angle_b1));
     if (intersects(a, ma.start(), b, mb.start())) continue;
     const auto ours = time_of_impact(a, ma, b, mb);
     hits += check_against_truth(ours, ccd_reference::sampled_truth(fa, ma, fb, mb, 2000), a, ma, b, mb, i);
