@@ -58,8 +58,9 @@ struct WorldOptions {
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
-  // Launch guard (see World::solve and StepReport::launches_prevented): speed a solve
-  // may add beyond twice the fastest body it couples and the depenetration speed.
+  // Launch guard (see World::solve and StepReport::launches_prevented): speed (of a
+  // body's kinetic energy) a solve may add beyond twice the fastest body it couples and
+  // the depenetration speed.
   double launch_guard_slack_m_s = 0.5;
   // No body point moves faster than this after a solve (metres per second).
   double max_body_speed_m_s = 60.0;
