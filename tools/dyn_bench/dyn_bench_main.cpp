@@ -310,11 +310,20 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
   Csv runs_csv(runs_csv_path, "engine,n,mu,run,median_ms_per_step");
   std::printf("\n== drop, N = 1000, %d runs (the first as above, then start velocities perturbed by up to 8 um/s)\n"
               "%-18s %5s %10s %s\n", runs, "engine", "mu", "mean of medians", "medians by run");
+  // Run by run, the two engines of a friction setting one after the other: the machine's
+  // speed drifts over minutes, and a ratio of runs made minutes apart carried it (all of
+  // one engine's runs, then the other's).
+  for (int run = 1; run < runs; ++run)
+    for (double mu : {0.0, 0.5})
+      for (const char* engine : {"arphys", "ode-quick"}) {
+        const auto key = pile_medians.find({engine, mu});
+        if (key == pile_medians.end()) continue;
+        const DropRun r = drop_once(engine, 1000, mu, duration, run);
+        if (r.error.empty()) key->second.push_back(r.median_ms);
+        std::fprintf(stderr, "drop N = 1000, run %d of %d: %s mu %.1f, median %.3f ms/step\n", run + 1, runs, engine, mu,
+                     r.median_ms);
+      }
   for (auto& [key, medians] : pile_medians) {
-    for (int run = 1; run < runs; ++run) {
-      const DropRun r = drop_once(key.first, 1000, key.second, duration, run);
-      if (r.error.empty()) medians.push_back(r.median_ms);
-    }
     std::printf("%-18s %5.1f %10.3f     ", key.first.c_str(), key.second, mean(medians));
     for (std::size_t run = 0; run < medians.size(); ++run) {
       std::printf(" %.3f", medians[run]);
