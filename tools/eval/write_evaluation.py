@@ -311,10 +311,11 @@ def main():
     w("## Where we fall short\n")
     w("Derived from this run's figures:\n")
     w("\n".join(f"- {s}" for s in shortfalls) if shortfalls else "- none in this run's figures.")
-    w("\nKnown and not measured by a chart here: since bunnies really rest on the table (a contact bug let them sink "
-      "in before), the 20-bunny scene takes about twice as long per step, so application 2 steps at 20 ms; the "
-      "quick run has no N = 1000 drop, where we stay within 1 um of overlap but are far slower per step than ODE "
-      "quickstep (docs/dynamics.md, scene 6).\n")
+    w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml): "
+      "its frictional bunnies at 10 ms steps fell behind the camera on 2 cores, measured before the twelfth session's "
+      "launch-guard change made the frictionless 20-bunny benchmark scene about twice as fast (about real time at "
+      "10 ms, docs/dynamics.md) and not measured since; the quick run has no N = 1000 drop, where we stay within "
+      "1 um of overlap but are far slower per step than ODE quickstep (7-9x, docs/dynamics.md, scene 6).\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
