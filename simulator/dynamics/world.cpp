@@ -351,8 +351,7 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
   report.max_penetration_m = std::max(report.max_penetration_m, deepest);
   const std::vector<BodyVelocity>& u_unconstrained = setup.u_unconstrained;
   const std::vector<int>& slot_of_unknown = setup.slot_of_unknown;
-  std::vector<int> body_of_unknown = setup.body_of_unknown;
-  const ContactSolveResult result = solve_contacts(setup.inertia, u, rows, options_.solver, memo, &body_of_unknown);
+  const ContactSolveResult result = solve_contacts(setup.inertia, u, rows, options_.solver, memo, &setup.body_of_unknown);
   // Launch guard. Contacts are passive: with restitution <= 1 a solve can at most
   // reverse (and pass on) the fastest motion among the bodies it couples, plus what
   // moving non-dynamic bodies and depenetration impose. A body left with more kinetic
