@@ -218,7 +218,7 @@ void describe_contact(const CollisionMesh& A, const geometry::ScrewMotion& motio
 ContinuousResult time_of_impact(const CollisionMesh& A, const geometry::ScrewMotion& motion_A, const CollisionMesh& B,
                                 const geometry::ScrewMotion& motion_B, const ContinuousOptions& options) {
   ContinuousResult result;
-  if (const auto pair = find_intersection(A, motion_A.start(), B, motion_B.start())) {
+  if (const auto pair = options.apart_at_start ? std::nullopt : find_intersection(A, motion_A.start(), B, motion_B.start())) {
     result.collides = true;
     result.time_of_impact = 0.0;
     result.features = {FeaturePair::kOverlapAtStart, pair->triangle_A, pair->triangle_B, -1, -1};

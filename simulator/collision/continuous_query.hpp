@@ -40,6 +40,10 @@ struct ContinuousOptions {
   // same conservative answer: bounds the cost of nearly coplanar meshes turning against
   // each other, where a few pairs can take millions of nodes.
   long max_search_nodes = 0;
+  // The caller has found the two meshes apart at the motions' start poses (a simulation
+  // tests that for its contacts at the same poses): the query's own start test, as
+  // costly as a discrete intersection test, is skipped. Must be exact, not a guess.
+  bool apart_at_start = false;
 };
 
 struct ContinuousStats {

@@ -181,7 +181,10 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     std::vector<collision::ManifoldPoint> manifold = collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance);
     std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options_.max_contacts_per_pair);
     if (!depth_measured(a, b)) {
-      if (const auto crossing = mesh_crossing_depth(a, b, manifold)) {
+      bool apart = false;
+      const auto crossing = mesh_crossing_depth(a, b, manifold, &apart);
+      if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
+      if (crossing) {
         // The crossing features' normals point to the side their vertex is on, which for
         // a vertex gone through is the wrong one: such rows held the pair crossed (the
         // push out was infeasible against them). Those opposing the way out are dropped.
@@ -205,18 +208,22 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
   return contacts;
 }
 
-std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(
-    const RigidBody& a, const RigidBody& b, const std::vector<collision::ManifoldPoint>& manifold) const {
+std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
+                                                                  const std::vector<collision::ManifoldPoint>& manifold,
+                                                                  bool* apart) const {
   // Only pairs within the contact tolerance (with a manifold) can cross. (Their features
   // do not show it: a mesh's distances are unsigned, and crossing edges pass through
   // faces, not through edges: two bunnies 0.3 mm into each other had none closer than 5 um.)
   if (manifold.empty()) return std::nullopt;
   const collision::CollisionMesh& mesh_a = *a.shape.triangles();
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
-  // (The CCD's time_of_impact tests these poses again for the pair's next motion: a tenth
-  // of a 20-bunny step goes to this test, which a per-sub-step answer could share.)
+  // (The answer "apart" is shared with the CCD of the pair's motions from these poses:
+  // see apart_at_.)
   const auto crossing = collision::find_intersection(mesh_a, a.X_WB, mesh_b, b.X_WB);
-  if (!crossing) return std::nullopt;
+  if (!crossing) {
+    if (apart) *apart = true;
+    return std::nullopt;
+  }
   Eigen::Vector3d ta[3], tb[3];
   mesh_a.corners(crossing->triangle_A, ta);
   mesh_b.corners(crossing->triangle_B, tb);
@@ -509,9 +516,13 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
           std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
       const geometry::ScrewMotion& motion_a = motion_of(p);
       const geometry::ScrewMotion& motion_b = motion_of(q);
+      collision::ContinuousOptions ccd = options_.ccd;
+      const auto apart = apart_at_.find({i, j});  // (i < j: participants are sorted)
+      ccd.apart_at_start = apart != apart_at_.end() && apart->second.X_WA.matrix() == a.X_WB.matrix() &&
+                           apart->second.X_WB.matrix() == b.X_WB.matrix();
       query = {true, next[p], next[q],
                resting_slowly ? collision::ContinuousResult{}
-                              : collision::time_of_impact(a.shape, motion_a, b.shape, motion_b, options_.ccd),
+                              : collision::time_of_impact(a.shape, motion_a, b.shape, motion_b, ccd),
                {}};
       if (!resting_slowly) ++report.ccd_queries;
       const collision::ContinuousResult& r = query.result;
@@ -907,6 +918,7 @@ StepReport World::step(double dt_s) {
     (bodies_[i].is_dynamic() ? dynamic : fixed).push_back(i);
   }
   // The step's first solve, for everything at once.
+  apart_at_.clear();
   set_kinematic_state(everyone, time_s_, dt_s);
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
