@@ -331,14 +331,6 @@ ContactRow World::row_of(const Contact& c, const SolveSetup& setup, const std::v
   return row;
 }
 
-std::vector<BodyVelocity> World::solve(double h, double force_h, const std::vector<int>& participants,
-                                       const std::vector<Contact>& resting, const ImpactMap& impacts,
-                                       std::vector<Contact>& solved, StepReport& report, bool* infeasible,
-                                       SolvedIslands* memo) const {
-  return solve(prepare_solve(h, force_h, participants, resting), participants, resting, impacts, solved, report,
-               infeasible, memo);
-}
-
 std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vector<int>& participants,
                                        const std::vector<Contact>& resting, const ImpactMap& impacts,
                                        std::vector<Contact>& solved, StepReport& report, bool* infeasible,
@@ -923,7 +915,8 @@ StepReport World::step(double dt_s) {
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
   SolvedIslands islands_at_start;
-  const std::vector<BodyVelocity> u0 = solve(dt_s, dt_s, everyone, resting, {}, solved, report, nullptr, &islands_at_start);
+  const std::vector<BodyVelocity> u0 = solve(prepare_solve(dt_s, dt_s, everyone, resting), everyone, resting, {}, solved,
+                                             report, nullptr, &islands_at_start);
   const std::vector<geometry::Pose> next0 = candidate_poses(everyone, u0, 0, dt_s);
 
   // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the

@@ -192,15 +192,6 @@ class World {
   std::vector<Contact> gather_contacts(const std::vector<int>& participants) const;
   // The meetings the CCD found in the step, as contacts at the current poses.
   std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
-  // Solves the resting and impact contacts for the time h left in the step, from the
-  // current velocities; returns the velocities to move with, by participant, and the
-  // contacts solved (with their impulses) in `solved`; `infeasible`: whether a body
-  // was squeezed (see StepReport::infeasible).
-  // force_h: the time over which gravity and the gyroscopic term act in this solve
-  // (the whole step in its first solve, 0 after a cut).
-  std::vector<BodyVelocity> solve(double h, double force_h, const std::vector<int>& participants,
-                                  const std::vector<Contact>& resting, const ImpactMap& impacts, std::vector<Contact>& solved,
-                                  StepReport& report, bool* infeasible = nullptr, SolvedIslands* memo = nullptr) const;
   // What a solve needs before the impacts are known: the unknowns (the dynamic
   // participants), their inertia and unconstrained velocities, and the resting contacts'
   // rows. The same for every re-solve at the same poses (a group's rounds): built once
@@ -213,12 +204,17 @@ class World {
     std::vector<ContactRow> resting_rows;
     double deepest_m = 0;  // deepest overlap among the resting contacts
   };
+  // h: the time left in the step; force_h: the time over which gravity and the
+  // gyroscopic term act in this solve (the whole step in its first solve, 0 after a cut).
   SolveSetup prepare_solve(double h, double force_h, const std::vector<int>& participants,
                            const std::vector<Contact>& resting) const;
   // A contact's constraint row for a solve over h (setup.h): its bounds from its gap, its
   // bounce and its own lower bound.
   ContactRow row_of(const Contact& contact, const SolveSetup& setup, const std::vector<int>& participants) const;
-  // solve() with the setup built (from the same participants and resting contacts).
+  // Solves the resting contacts (those the setup was built from) and the impact contacts
+  // for the time left in the step, from the current velocities; returns the velocities
+  // to move with, by participant, and the contacts solved (with their impulses) in
+  // `solved`; `infeasible`: whether a body was squeezed (see StepReport::infeasible).
   std::vector<BodyVelocity> solve(const SolveSetup& setup, const std::vector<int>& participants,
                                   const std::vector<Contact>& resting, const ImpactMap& impacts,
                                   std::vector<Contact>& solved, StepReport& report, bool* infeasible,

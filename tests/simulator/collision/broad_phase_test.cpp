@@ -86,19 +86,27 @@ TEST(BroadPhase, OverlappingPairsMatchBruteForce) {
   }
 }
 
+// Layers of 8 x 8 swept boxes of a pile of 0.2 m boxes (0.35 m wide: their bounding
+// spheres), 0.35 m apart, each moved by up to 2 cm: each overlaps about a dozen others.
+std::vector<Eigen::AlignedBox3d> jittered_pile(std::mt19937& rng, int layers) {
+  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (int layer = 0; layer < layers; ++layer)
+    for (int gy = 0; gy < 8; ++gy)
+      for (int gx = 0; gx < 8; ++gx) {
+        // (Braced: the three draws in this order, whatever the compiler.)
+        const Eigen::Vector3d c{0.35 * gx + jitter(rng), 0.35 * gy + jitter(rng), 0.2 + 0.35 * layer + jitter(rng)};
+        boxes.emplace_back(c - Eigen::Vector3d::Constant(0.175), c + Eigen::Vector3d::Constant(0.175));
+      }
+  return boxes;
+}
+
 // A pile: equal boxes in touching columns and layers (each overlaps a dozen others;
 // each pair reported once), one large box (a table), a floor, an empty box and a NaN
 // box among them.
 TEST(BroadPhase, PileWithOddBoxesMatchesBruteForce) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
-  std::vector<Eigen::AlignedBox3d> boxes;
-  for (int layer = 0; layer < 6; ++layer)
-    for (int gy = 0; gy < 8; ++gy)
-      for (int gx = 0; gx < 8; ++gx) {
-        const Eigen::Vector3d c(0.35 * gx + jitter(rng), 0.35 * gy + jitter(rng), 0.2 + 0.35 * layer + jitter(rng));
-        boxes.emplace_back(c - Eigen::Vector3d::Constant(0.175), c + Eigen::Vector3d::Constant(0.175));
-      }
+  std::vector<Eigen::AlignedBox3d> boxes = jittered_pile(rng, 6);
   boxes.emplace_back(Eigen::Vector3d(-1, -1, 0), Eigen::Vector3d(3, 3, 0.1));  // a table
   const double inf = std::numeric_limits<double>::infinity();
   boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.05));
@@ -111,19 +119,12 @@ TEST(BroadPhase, PileWithOddBoxesMatchesBruteForce) {
 }
 
 // The re-solves of a step move a few boxes of many: the moved boxes' pairs must be the
-// brute force's that involve them, and with the pairs carried over the fresh sweep's, whatever the moved boxes become (moved
-// away, onto others, NaN, empty, valid again) and with pairs of two moved boxes found
-// once; with many moved, the full sweep.
+// brute force's that involve them, and with the pairs carried over the fresh sweep's,
+// whatever the moved boxes become (moved away, onto others, NaN, empty, valid again),
+// with pairs of two moved boxes found once; with many moved, the full sweep.
 TEST(BroadPhase, OverlappingPairsUpdatedMatchAFreshSweep) {
   std::mt19937 rng(21);
-  std::uniform_real_distribution<double> jitter(-0.02, 0.02);
-  std::vector<Eigen::AlignedBox3d> boxes;
-  for (int layer = 0; layer < 4; ++layer)
-    for (int gy = 0; gy < 8; ++gy)
-      for (int gx = 0; gx < 8; ++gx) {
-        const Eigen::Vector3d c(0.35 * gx + jitter(rng), 0.35 * gy + jitter(rng), 0.2 + 0.35 * layer + jitter(rng));
-        boxes.emplace_back(c - Eigen::Vector3d::Constant(0.175), c + Eigen::Vector3d::Constant(0.175));
-      }
+  std::vector<Eigen::AlignedBox3d> boxes = jittered_pile(rng, 4);
   const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
   boxes.emplace_back(Eigen::Vector3d(-inf, -inf, -inf), Eigen::Vector3d(inf, inf, 0.05));  // a floor
   boxes[40] = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(nan), Eigen::Vector3d::Constant(nan));

@@ -37,7 +37,7 @@ TEST(BunnyScene, TwentyBunniesAsShippedNeverFreezeNorLetTheBoxIn) {
   World world = build_world(scene);
   const int box = world.find("box");
   ASSERT_GE(box, 0);
-  const Eigen::Vector3d box_half_extents_m(0.075, 0.075, 0.075);  // configs/scenes/bunnies20.yaml
+  const Eigen::Vector3d box_half_extents_m = 0.5 * world.bodies()[box].shape.size_m();
   int frozen_in_a_row = 0, longest = 0;
   double deepest_in_box_m = 0;
   for (int step = 0; step < 230; ++step) {
