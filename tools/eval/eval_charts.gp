@@ -48,19 +48,19 @@ set yrange [*:*]
 set xtics norotate
 set style data points
 
-# 3. Model size: cost against accuracy of the bunnies' rest poses (reference: 70k bunny,
-#    box table, same friction).
+# 3. Model size: cost against accuracy of the rest pose of a bunny set down upright
+#    (reference: 70k bunny, box table, same friction).
 set terminal pngcairo size 900,600 font ',10'
 set output dir.'/eval_model_size.png'
-set title "How much model the bunny scene needs: ms per step vs rest-pose error against the 70k bunny"
+set title "How much model the bunny scene needs: ms per step vs an upright bunny's rest-pose error against the 70k bunny"
 set logscale xy
 set xrange [0.1:60]
 set xlabel 'ms per step (log)'
-set ylabel 'mean rest position error (mm, log; 0 shown at 0.01)'
+set ylabel 'upright rest position error (mm, log; 0 shown at 0.01)'
 set key top right
 at_least_001(x) = x > 0.01 ? x : 0.01
-plot sprintf("< awk -F, 'NR > 1 && $3 == 1' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($6)):(sprintf('%s, %d tri', stringcolumn(1), $2)) with labels point pt 7 ps 1.4 lc rgb '#0060c0' offset 1,0.5 left font ',8' title 'friction 0.5', \
-     sprintf("< awk -F, 'NR > 1 && $3 == 0' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($6)):(sprintf('%s, %d tri', stringcolumn(1), $2)) with labels point pt 5 ps 1.4 lc rgb '#cc4400' offset 1,-0.5 left font ',8' title 'frictionless'
+plot sprintf("< awk -F, 'NR > 1 && $3 == 1' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %d tri', stringcolumn(1), $2)) with labels point pt 7 ps 1.4 lc rgb '#0060c0' offset 1,0.5 left font ',8' title 'friction 0.5', \
+     sprintf("< awk -F, 'NR > 1 && $3 == 0' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %d tri', stringcolumn(1), $2)) with labels point pt 5 ps 1.4 lc rgb '#cc4400' offset 1,-0.5 left font ',8' title 'frictionless'
 unset logscale
 set xrange [*:*]
 

@@ -3,7 +3,7 @@
 //                 a pushed bunny does (docs/EVALUATION.md, "stability where methods fail")
 //   loss-flip     lost tracks (re-acquired further on) and pose flips, same scenario
 //   model-size    table plane/box/mesh, bunny mesh 500..70k triangles, friction on/off:
-//                 accuracy of rest poses against cost ("model no more than a scene needs")
+//                 accuracy (a bunny set down upright, dropped bunnies' rest poses) against cost ("model no more than a scene needs")
 // Each writes one CSV into --out and prints a progress line per run.
 #include <CLI/CLI.hpp>
 
@@ -102,7 +102,7 @@ int loss_flip(const config::SceneConfig& scene, const std::string& out) {
 int model_size(const config::SceneConfig& scene, const std::string& out, const std::string& models, double duration_s) {
   auto csv = open_csv(out + "/eval_model_size.csv",
                       "table,bunny_triangles,friction,ms_per_step,max_penetration_mm,rest_position_error_mm,"
-                      "rest_rotation_error_deg");
+                      "rest_rotation_error_deg,upright_position_error_mm,upright_rotation_error_deg");
   const std::vector<std::pair<std::string, int>> bunnies{{models + "/stanford-bunny-500.obj", 0},
                                                          {models + "/stanford-bunny-1k.obj", 0},
                                                          {models + "/stanford-bunny-5k.obj", 0},
@@ -131,11 +131,15 @@ int model_size(const config::SceneConfig& scene, const std::string& out, const s
       if (v.friction != friction) continue;
       const ModelOutcome o = run_model_variant(scene, v, duration_s, out);
       const auto [position_mm, rotation_deg] = rest_pose_error(o.rest_poses, ref.rest_poses);
+      const auto [upright_mm, upright_deg] = rest_pose_error({o.upright_rest_pose}, {ref.upright_rest_pose});
       csv << v.table << "," << v.bunny_triangles << "," << v.friction << "," << o.ms_per_step << ","
-          << o.max_penetration_mm << "," << position_mm << "," << rotation_deg << "\n";
-      std::fprintf(stderr, "\rmodel-size %d/%zu: table %-5s bunny %5d tri friction %d: %.2f ms/step, rest error %.2f mm %.2f deg   ",
-                   ++done, variants.size(), v.table.c_str(), v.bunny_triangles, v.friction, o.ms_per_step, position_mm,
-                   rotation_deg);
+          << o.max_penetration_mm << "," << position_mm << "," << rotation_deg << "," << upright_mm << "," << upright_deg
+          << "\n";
+      std::fprintf(stderr,
+                   "\rmodel-size %d/%zu: table %-5s bunny %5d tri friction %d: %.2f ms/step, upright error %.2f mm %.2f deg, "
+                   "rest error %.1f mm   ",
+                   ++done, variants.size(), v.table.c_str(), v.bunny_triangles, v.friction, o.ms_per_step, upright_mm,
+                   upright_deg, position_mm);
     }
   }
   std::fprintf(stderr, "\n");

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 #include "simulator/dynamics/scene_world.hpp"
@@ -73,6 +74,19 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     body.shape = dynamics::shape_of(collision);
     world.add_body(std::move(body));
   }
+  // The fourth, upright on its base (the first's orientation), its lowest vertex 1 mm
+  // above the table top (z = 0), away from the others and the box.
+  {
+    geometry::Pose X = geometry::Pose::Identity();
+    X.linear() = Eigen::Quaterniond(0.7071067811865476, 0.7071067811865476, 0, 0).toRotationMatrix();
+    dynamics::RigidBody body = dynamics::make_instance(*bunny, "bunny#upright", X, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    body.shape = dynamics::shape_of(collision);
+    double lowest_m = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& v : body.shape.triangles()->mesh().vertices_m) lowest_m = std::min(lowest_m, (X.linear() * v).z());
+    X.translation() = Eigen::Vector3d(-0.1, -0.25, 1e-3 - lowest_m);
+    body.X_WB = X;
+    world.add_body(std::move(body));
+  }
   ModelOutcome out;
   const double dt = scene.time_step_s;
   const long steps = std::lround(duration_s / dt);
@@ -83,6 +97,7 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
   }
   out.ms_per_step = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps;
   for (int i = 0; i < 3; ++i) out.rest_poses.push_back(world.bodies()[world.find("bunny#" + std::to_string(i))].X_WB);
+  out.upright_rest_pose = world.bodies()[world.find("bunny#upright")].X_WB;
   return out;
 }
 
