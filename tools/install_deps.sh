@@ -11,6 +11,7 @@ build=(
   default-jdk-headless                               # javac/jar for the lcm-spy jar of our types
   libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev nlohmann-json3-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
+  libmeshoptimizer-dev                               # tools/models/decimate-quadric (collision meshes)
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev)  # clang: sanitizers + libFuzzer
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3)

@@ -105,6 +105,7 @@ int model_size(const config::SceneConfig& scene, const std::string& out, const s
                       "rest_rotation_error_deg,upright_position_error_mm,upright_rotation_error_deg");
   const std::vector<std::pair<std::string, int>> bunnies{{models + "/stanford-bunny-500.obj", 0},
                                                          {models + "/stanford-bunny-1k.obj", 0},
+                                                         {models + "/stanford-bunny-1k-quadric.obj", 0},
                                                          {models + "/stanford-bunny-5k.obj", 0},
                                                          {models + "/stanford-bunny-70k.ply", 0}};
   std::vector<ModelVariant> variants;
