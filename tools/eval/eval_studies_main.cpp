@@ -102,7 +102,7 @@ int loss_flip(const config::SceneConfig& scene, const std::string& out) {
 int model_size(const config::SceneConfig& scene, const std::string& out, const std::string& models, double duration_s) {
   auto csv = open_csv(out + "/eval_model_size.csv",
                       "table,bunny_triangles,friction,ms_per_step,max_penetration_mm,rest_position_error_mm,"
-                      "rest_rotation_error_deg,upright_position_error_mm,upright_rotation_error_deg");
+                      "rest_rotation_error_deg,upright_position_error_mm,upright_rotation_error_deg,bunny_mesh");
   const std::vector<std::pair<std::string, int>> bunnies{{models + "/stanford-bunny-500.obj", 0},
                                                          {models + "/stanford-bunny-1k.obj", 0},
                                                          {models + "/stanford-bunny-1k-quadric.obj", 0},
@@ -112,8 +112,8 @@ int model_size(const config::SceneConfig& scene, const std::string& out, const s
   for (bool friction : {true, false}) {
     for (const auto& [mesh, n] : bunnies) {
       for (const std::string table : {"box", "plane", "mesh"}) {
-        // Every table with the 5k bunny; every bunny with the box table.
-        if (table != "box" && mesh.find("-5k") == std::string::npos) continue;
+        // Every table with the scenes' bunny (1k-quadric); every bunny with the box table.
+        if (table != "box" && mesh.find("-1k-quadric") == std::string::npos) continue;
         ModelVariant v;
         v.table = table;
         v.bunny_mesh = mesh;
@@ -135,7 +135,7 @@ int model_size(const config::SceneConfig& scene, const std::string& out, const s
       const auto [upright_mm, upright_deg] = rest_pose_error({o.upright_rest_pose}, {ref.upright_rest_pose});
       csv << v.table << "," << v.bunny_triangles << "," << v.friction << "," << o.ms_per_step << ","
           << o.max_penetration_mm << "," << position_mm << "," << rotation_deg << "," << upright_mm << "," << upright_deg
-          << "\n";
+          << "," << std::filesystem::path(v.bunny_mesh).stem().string() << "\n";
       std::fprintf(stderr,
                    "\rmodel-size %d/%zu: table %-5s bunny %5d tri friction %d: %.2f ms/step, upright error %.2f mm %.2f deg, "
                    "rest error %.1f mm   ",

@@ -47,8 +47,8 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
   } else if (v.table != "box") {
     throw std::invalid_argument("model study: table must be plane, box or mesh, not '" + v.table + "'");
   }
-  // The collision mesh varies; the mass properties stay those of the 5k bunny (the
-  // coarse meshes come from vertex clustering and do not close into a solid).
+  // The collision mesh varies; the mass properties stay those of the scene's bunny, so
+  // every variant has the same (and the clustered meshes do not close into a solid).
   config::ShapeConfig collision = bunny->collision;
   collision.mesh_path = v.bunny_mesh;
   if (!v.friction) {

@@ -280,42 +280,45 @@ def main():
     ms = rows(os.path.join(d, "eval_model_size.csv"))
     w("Three bunnies dropped apart onto the table come to rest (`arphys-eval-studies model-size`), and a fourth is set "
       "down upright on its base 1 mm above the table; each variant changes one model: the table as a plane, a box or a "
-      "12-triangle mesh; the bunny's collision mesh at 499, 1,199, 5,000 and 69,451 triangles (mass properties stay the 5k "
-      "mesh's); friction 0.5 or none. Errors: distance of the rest poses from those of the 70k bunny on the box table with "
-      "the same friction; \"upright\" for the bunny set down on its base (where its model's base puts it: this ranks the "
-      "models), \"dropped\" the mean over the three dropped with a tilt (which way a tilted bunny topples turns on tiny "
-      "differences: this compares outcomes, not precision). The chart plots the upright error.\n")
-    w(table(["table", "bunny triangles", "friction", "ms/step", "max penetration mm", "upright error mm",
+      "12-triangle mesh; the bunny's collision mesh: the 69,451-triangle scan, the 5,000-triangle quadric decimation of "
+      "it, 1,200 triangles by edge collapse from that (`1k-quadric`), and 1,199 and 499 by vertex clustering (mass "
+      "properties stay the scene's bunny's); friction 0.5 or none. Errors: distance of the rest poses from those of the "
+      "70k bunny on the box table with the same friction; \"upright\" for the bunny set down on its base (where its "
+      "model's base puts it: this ranks the models), \"dropped\" the mean over the three dropped with a tilt (which way "
+      "a tilted bunny topples turns on tiny differences: this compares outcomes, not precision). The chart plots the "
+      "upright error.\n")
+    w(table(["table", "bunny mesh", "triangles", "friction", "ms/step", "max penetration mm", "upright error mm",
              "upright error deg", "dropped error mm", "dropped error deg"],
-            [[r["table"], r["bunny_triangles"], "0.5" if r["friction"] == "1" else "none", f"{num(r['ms_per_step']):.2f}",
+            [[r["table"], r["bunny_mesh"].replace("stanford-bunny-", ""), r["bunny_triangles"],
+              "0.5" if r["friction"] == "1" else "none", f"{num(r['ms_per_step']):.2f}",
               f"{num(r['max_penetration_mm']):.3f}", f"{num(r['upright_position_error_mm']):.2f}",
               f"{num(r['upright_rotation_error_deg']):.2f}", f"{num(r['rest_position_error_mm']):.1f}",
               f"{num(r['rest_rotation_error_deg']):.1f}"] for r in ms]) + "\n")
-    def pick(table_, tri_prefix, friction):
-        return next((r for r in ms if r["table"] == table_ and r["bunny_triangles"].startswith(tri_prefix)
+    def pick(table_, mesh, friction):
+        return next((r for r in ms if r["table"] == table_ and r["bunny_mesh"] == "stanford-bunny-" + mesh
                      and r["friction"] == friction), None)
-    b5, b70, b1, b05 = pick("box", "5000", "1"), pick("box", "69", "1"), pick("box", "1199", "1"), pick("box", "499", "1")
-    plane, mesh = pick("plane", "5000", "1"), pick("mesh", "5000", "1")
-    if all((b5, b70, b1, b05, plane, mesh)):
+    b5, b70, bq, b1, b05 = (pick("box", m, "1") for m in ("5k", "70k", "1k-quadric", "1k", "500"))
+    plane, mesh = pick("plane", "1k-quadric", "1"), pick("mesh", "1k-quadric", "1")
+    if all((b5, b70, bq, b1, b05, plane, mesh)):
         def upright(r):
             return f"{num(r['upright_position_error_mm']):.2f} mm and {num(r['upright_rotation_error_deg']):.2f} deg"
-        w(f"What it shows, and what the scene configs use because of it. Cost: the 70k mesh costs "
-          f"{num(b70['ms_per_step']) / num(b5['ms_per_step']):.1f}x the 5k mesh's time per step, the 1k and 500-triangle "
-          f"meshes {num(b1['ms_per_step']) / num(b5['ms_per_step']):.2f}x and {num(b05['ms_per_step']) / num(b5['ms_per_step']):.2f}x; "
-          f"as a plane the table costs {num(plane['ms_per_step']) / num(b5['ms_per_step']):.1f}x the box's time (the plane-mesh "
-          f"contact tests every vertex; box-mesh contact walks the OBB tree), as a 12-triangle mesh "
-          f"{num(mesh['ms_per_step']) / num(b5['ms_per_step']):.1f}x, with the same rest poses. Accuracy, with friction: the "
-          f"upright bunny rests {upright(b5)} from the 70k one's rest pose with the 5k mesh, {upright(b1)} with the 1k mesh "
-          f"and {upright(b05)} with the 500-triangle one (frictionless, the upright bunny also slides as it settles, which "
-          "blurs the ranking). So the 1k mesh would cost a fraction of a millimetre and of a degree, which no overlay shows, "
-          "for about half the time; but the coarse meshes come from vertex clustering and are open (holes, non-manifold "
-          "edges): their mass properties cannot be computed and their contacts are a shell's, not a solid's. The scenes "
-          "therefore keep the 5k mesh until a closed decimation of about 1k triangles exists, the table as a box, and "
-          "friction on for thrown bunnies (frictionless ones slide and scatter); the stacks and the teacup need none. "
-          "Which way the dropped bunnies topple does not rank the meshes (every variant rests "
-          f"{min(num(r['rest_position_error_mm']) for r in ms if not r['bunny_triangles'].startswith('69')):.0f}-"
-          f"{max(num(r['rest_position_error_mm']) for r in ms if not r['bunny_triangles'].startswith('69')):.0f} mm "
-          "from the 70k ones).\n")
+        def cost(r):
+            return num(r["ms_per_step"]) / num(b5["ms_per_step"])
+        dropped = [num(r["rest_position_error_mm"]) for r in ms if r["bunny_mesh"] != "stanford-bunny-70k"]
+        w(f"What it shows, and what the scene configs use because of it. Cost, against the 5k mesh's time per step: the "
+          f"70k scan {cost(b70):.1f}x, the 1k-quadric mesh {cost(bq):.2f}x, the clustered 1k and 500-triangle meshes "
+          f"{cost(b1):.2f}x and {cost(b05):.2f}x; with the 1k-quadric bunny the table as a plane costs "
+          f"{num(plane['ms_per_step']) / num(bq['ms_per_step']):.1f}x the box's time (the plane-mesh contact tests every "
+          f"vertex; box-mesh contact walks the OBB tree), as a 12-triangle mesh "
+          f"{num(mesh['ms_per_step']) / num(bq['ms_per_step']):.1f}x. Accuracy, with friction: the upright bunny rests "
+          f"{upright(b5)} from the 70k scan's rest pose with the 5k mesh, {upright(bq)} with the 1k-quadric one, "
+          f"{upright(b1)} with the clustered 1k and {upright(b05)} with the 500-triangle one (frictionless, the upright "
+          "bunny also slides as it settles, which blurs the ranking). Edge collapse keeps the surface's topology and "
+          "vertex clustering does not (the clustered meshes have non-manifold edges: no mass properties, a shell's "
+          "contacts). So the bunny scenes collide with the 1k-quadric mesh (as close to the scan at rest as the 5k mesh, "
+          "for well under half the time), the table as a box, and friction on for thrown bunnies (frictionless ones slide "
+          "and scatter); the stacks and the teacup need none. Which way the dropped bunnies topple does not rank the "
+          f"meshes (every variant rests {min(dropped):.0f}-{max(dropped):.0f} mm from the 70k ones).\n")
 
     # ---------------------------------------------------------------- shortfalls
     w("## Where we fall short\n")
