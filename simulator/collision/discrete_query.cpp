@@ -11,14 +11,12 @@ namespace arphys::collision {
 namespace {
 
 // Depth-first over node pairs whose boxes come within `margin()` of each other,
-// descending the larger box first; `leaf(tA, tB)` sees the surviving triangle pairs
-// and returns false to stop.
+// descending the larger box first; `leaf(node_A, node_B)` sees the surviving leaf pairs
+// and returns false to stop. The order of the leaf pairs depends on the trees only,
+// not on the pose or the margin (NearbyTrianglePairs relies on it).
 template <typename Margin, typename Leaf>
-void traverse_close_pairs(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
-                          const geometry::Pose& X_WB, Margin margin, Leaf leaf) {
-  const geometry::Pose X_AB = X_WA.inverse() * X_WB;
-  const Eigen::Matrix3d R_AB = X_AB.linear();
-  const Eigen::Vector3d p_AB = X_AB.translation();
+void traverse_close_pairs(const CollisionMesh& A, const CollisionMesh& B, const Eigen::Matrix3d& R_AB,
+                          const Eigen::Vector3d& p_AB, Margin margin, Leaf leaf) {
   const auto& na = A.tree().nodes();
   const auto& nb = B.tree().nodes();
   std::vector<std::pair<int, int>> stack{{0, 0}};
@@ -27,7 +25,7 @@ void traverse_close_pairs(const CollisionMesh& A, const geometry::Pose& X_WA, co
     stack.pop_back();
     if (obbs_separated(na[a].box, nb[b].box, R_AB, p_AB, margin())) continue;
     if (na[a].is_leaf() && nb[b].is_leaf()) {
-      if (!leaf(na[a].triangle, nb[b].triangle)) return;
+      if (!leaf(a, b)) return;
       continue;
     }
     const bool split_a = !na[a].is_leaf() && (nb[b].is_leaf() || na[a].box.half_extents_m.maxCoeff() >=
@@ -42,6 +40,58 @@ void traverse_close_pairs(const CollisionMesh& A, const geometry::Pose& X_WA, co
   }
 }
 
+// The triangle pairs whose boxes come within margin_m at these poses, to
+// `leaf(triangle_A, triangle_B)` (false: stop), through `nearby` when given.
+template <typename Leaf>
+void close_triangle_pairs(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
+                          const geometry::Pose& X_WB, double margin_m, NearbyTrianglePairs* nearby, Leaf leaf) {
+  const geometry::Pose X_AB = X_WA.inverse() * X_WB;
+  const Eigen::Matrix3d R_AB = X_AB.linear();
+  const Eigen::Vector3d p_AB = X_AB.translation();
+  const auto& na = A.tree().nodes();
+  const auto& nb = B.tree().nodes();
+  const auto descend = [&](double margin) {
+    traverse_close_pairs(A, B, R_AB, p_AB, [margin] { return margin; },
+                         [&](int a, int b) { return leaf(na[a].triangle, nb[b].triangle); });
+  };
+  if (!nearby) return descend(margin_m);
+  const bool same_meshes = nearby->mesh_A == &A && nearby->mesh_B == &B;
+  // How far a triangle of B can have moved relative to A since X_AB_before: its root box
+  // centre's displacement plus the turn's, |R - R0| times the reach about that centre
+  // (for a difference of rotations the 2-norm is the Frobenius norm over sqrt 2).
+  const auto moved_since = [&](const geometry::Pose& X_AB_before) {
+    const Eigen::Vector3d& c = nb[0].box.center;
+    return (R_AB * c + p_AB - X_AB_before * c).norm() +
+           0.7072 * (R_AB - X_AB_before.linear()).norm() * B.tree().reach_m();
+  };
+  if (same_meshes && nearby->margin_m >= 0 && margin_m + 1.01 * moved_since(nearby->X_AB) + 1e-12 < nearby->margin_m) {
+    ++nearby->reuses;
+    for (const auto& [a, b] : nearby->leaves) {
+      if (obbs_separated(na[a].box, nb[b].box, R_AB, p_AB, margin_m)) continue;
+      if (!leaf(na[a].triangle, nb[b].triangle)) return;
+    }
+    return;
+  }
+  const bool keep = same_meshes && nearby->seen && moved_since(nearby->X_AB_seen) < 0.25 * nearby->spare_margin_m;
+  nearby->mesh_A = &A;
+  nearby->mesh_B = &B;
+  nearby->seen = true;
+  nearby->X_AB_seen = X_AB;
+  nearby->leaves.clear();
+  nearby->margin_m = -1;
+  ++nearby->descents;
+  if (!keep) return descend(margin_m);
+  nearby->X_AB = X_AB;
+  nearby->margin_m = margin_m + nearby->spare_margin_m;
+  bool stopped = false;  // the caller has its answer; the descent goes on to fill `nearby`
+  traverse_close_pairs(A, B, R_AB, p_AB, [&] { return nearby->margin_m; }, [&](int a, int b) {
+    nearby->leaves.emplace_back(a, b);
+    if (!stopped && !obbs_separated(na[a].box, nb[b].box, R_AB, p_AB, margin_m))
+      stopped = !leaf(na[a].triangle, nb[b].triangle);
+    return true;
+  });
+}
+
 void corners_in_world(const CollisionMesh& M, int triangle, const geometry::Pose& X_W, Eigen::Vector3d out[3]) {
   M.corners(triangle, out);
   for (int k = 0; k < 3; ++k) out[k] = X_W * out[k];
@@ -50,9 +100,9 @@ void corners_in_world(const CollisionMesh& M, int triangle, const geometry::Pose
 }  // namespace
 
 std::optional<TrianglePair> find_intersection(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
-                                              const geometry::Pose& X_WB) {
+                                              const geometry::Pose& X_WB, NearbyTrianglePairs* nearby) {
   std::optional<TrianglePair> found;
-  traverse_close_pairs(A, X_WA, B, X_WB, [] { return 0.0; }, [&](int ta, int tb) {
+  close_triangle_pairs(A, X_WA, B, X_WB, 0.0, nearby, [&](int ta, int tb) {
     Eigen::Vector3d a[3], b[3];
     corners_in_world(A, ta, X_WA, a);
     corners_in_world(B, tb, X_WB, b);
@@ -70,7 +120,12 @@ SeparationResult separation(const CollisionMesh& A, const geometry::Pose& X_WA, 
   SeparationResult best;
   best.distance_m = std::numeric_limits<double>::infinity();
   double bound = max_distance_m;
-  traverse_close_pairs(A, X_WA, B, X_WB, [&] { return std::isfinite(bound) ? bound : 1e300; }, [&](int ta, int tb) {
+  const geometry::Pose X_AB = X_WA.inverse() * X_WB;
+  const auto& na = A.tree().nodes();
+  const auto& nb = B.tree().nodes();
+  traverse_close_pairs(A, B, X_AB.linear(), X_AB.translation(), [&] { return std::isfinite(bound) ? bound : 1e300; },
+                       [&](int node_a, int node_b) {
+    const int ta = na[node_a].triangle, tb = nb[node_b].triangle;
     Eigen::Vector3d a[3], b[3], pa, pb;
     corners_in_world(A, ta, X_WA, a);
     corners_in_world(B, tb, X_WB, b);
@@ -217,9 +272,10 @@ class ManifoldBuilder {
 }  // namespace
 
 std::vector<ManifoldPoint> contact_manifold(const CollisionMesh& A, const geometry::Pose& X_WA, const CollisionMesh& B,
-                                            const geometry::Pose& X_WB, double tolerance_m) {
+                                            const geometry::Pose& X_WB, double tolerance_m,
+                                            NearbyTrianglePairs* nearby) {
   ManifoldBuilder builder(A, X_WA, B, X_WB, tolerance_m);
-  traverse_close_pairs(A, X_WA, B, X_WB, [&] { return tolerance_m; }, [&](int ta, int tb) {
+  close_triangle_pairs(A, X_WA, B, X_WB, tolerance_m, nearby, [&](int ta, int tb) {
     builder.add_pair(ta, tb);
     return true;
   });

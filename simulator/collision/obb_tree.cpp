@@ -88,6 +88,8 @@ ObbTree::ObbTree(const geometry::TriangleMesh& mesh) : mesh_(&mesh) {
   nodes_.reserve(2 * triangles.size());
   nodes_.emplace_back();
   build(0, triangles, 0, static_cast<int>(triangles.size()), 0);
+  for (const ObbNode& node : nodes_)
+    reach_m_ = std::max(reach_m_, (node.box.center - root().box.center).norm() + node.box.radius_m);
 }
 
 void ObbTree::build(int node, std::vector<int>& triangles, int begin, int end, int depth) {

@@ -38,6 +38,9 @@ class ObbTree {
   const ObbNode& root() const { return nodes_[0]; }
   std::size_t degenerate_triangles_skipped() const { return degenerate_skipped_; }
   int depth() const { return depth_; }
+  // The farthest any point of any node's box lies from the root box's centre: bounds
+  // how far a turn about that centre can move any of the tree's triangles.
+  double reach_m() const { return reach_m_; }
 
  private:
   void build(int node, std::vector<int>& triangles, int begin, int end, int depth);
@@ -46,6 +49,7 @@ class ObbTree {
   std::vector<ObbNode> nodes_;
   std::size_t degenerate_skipped_ = 0;
   int depth_ = 0;
+  double reach_m_ = 0;
 };
 
 // Box fitted to a set of triangles: axes from the eigenvectors of the covariance of

@@ -246,9 +246,10 @@ std::vector<ManifoldPoint> mesh_sphere_manifold(const CollisionMesh& mesh, const
 }  // namespace
 
 std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose& X_WA, const Shape& B,
-                                            const geometry::Pose& X_WB, double tolerance_m) {
+                                            const geometry::Pose& X_WB, double tolerance_m,
+                                            NearbyTrianglePairs* nearby) {
   if (rank(A.type()) > rank(B.type())) {
-    std::vector<ManifoldPoint> points = contact_manifold(B, X_WB, A, X_WA, tolerance_m);
+    std::vector<ManifoldPoint> points = contact_manifold(B, X_WB, A, X_WA, tolerance_m, nearby);
     for (auto& p : points) {
       std::swap(p.point_A_W, p.point_B_W);
       std::swap(p.triangles.triangle_A, p.triangles.triangle_B);
@@ -273,7 +274,7 @@ std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose
     case Shape::Type::kMesh:
       return B.type() == Shape::Type::kSphere
                  ? mesh_sphere_manifold(*A.triangles(), X_WA, B.radius_m(), X_WB, tolerance_m)
-                 : contact_manifold(*A.triangles(), X_WA, *B.triangles(), X_WB, tolerance_m);
+                 : contact_manifold(*A.triangles(), X_WA, *B.triangles(), X_WB, tolerance_m, nearby);
     case Shape::Type::kSphere: {
       const Eigen::Vector3d between = X_WB.translation() - X_WA.translation();
       const double gap = between.norm() - A.radius_m() - B.radius_m();

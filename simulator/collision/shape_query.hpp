@@ -23,7 +23,9 @@ ContinuousResult time_of_impact(const Shape& A, const geometry::ScrewMotion& mot
 // closest points and the normal from A to B. For pairs with a plane or a sphere the
 // distance is signed (negative: penetration depth); for mesh and box pairs it is the
 // unsigned triangle distance, 0 where they intersect. Plane against plane throws.
+// `nearby` serves the triangle mesh pairs (a mesh with a mesh or a box; not two boxes).
 std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose& X_WA, const Shape& B,
-                                            const geometry::Pose& X_WB, double tolerance_m);
+                                            const geometry::Pose& X_WB, double tolerance_m,
+                                            NearbyTrianglePairs* nearby = nullptr);
 
 }  // namespace arphys::collision

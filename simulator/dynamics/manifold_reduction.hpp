@@ -11,7 +11,8 @@ namespace arphys::dynamics {
 // At most `limit` of `points`, all of them if they fit. Points are grouped by normal
 // (within 20 degrees); each group's closest point is kept first, groups in the order of
 // their closest points, then each group's extremes along four directions across its
-// normal, which keep its support polygon. Closest first: two bunnies within the contact
+// normal among the points touching as its closest does (within 10 um: the support
+// polygon it rests on), then among all its points. Closest first: two bunnies within the contact
 // tolerance have a hundred and more features in a dozen directions, and filling the
 // limit with the largest group's extremes (as this did first) dropped the one edge pair
 // that touched, 2 pm apart; with no row to hold it, the pair sank 5 mm into each other

@@ -139,6 +139,13 @@ void World::remove_body(int index) {
   radius_m_.erase(radius_m_.begin() + index);
   contacts_.clear();
   pushed_before_.clear();
+  nearby_.clear();
+}
+
+collision::NearbyTrianglePairs* World::nearby_pairs(int i, int j) const {
+  Nearby& entry = nearby_[{std::min(i, j), std::max(i, j)}];
+  entry.used = true;
+  return &entry.pairs;
 }
 
 int World::find(const std::string& id) const {
@@ -178,11 +185,13 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     const RigidBody& b = bodies_[j];
     if (!a.is_dynamic() && !b.is_dynamic()) continue;
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
-    std::vector<collision::ManifoldPoint> manifold = collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance);
+    collision::NearbyTrianglePairs* nearby = depth_measured(a, b) ? nullptr : nearby_pairs(i, j);
+    std::vector<collision::ManifoldPoint> manifold =
+        collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance, nearby);
     std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options_.max_contacts_per_pair);
     if (!depth_measured(a, b)) {
       bool apart = false;
-      const auto crossing = mesh_crossing_depth(a, b, manifold, &apart);
+      const auto crossing = mesh_crossing_depth(a, b, manifold, &apart, nearby);
       if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
       if (crossing) {
         // The crossing features' normals point to the side their vertex is on, which for
@@ -210,7 +219,8 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
 
 std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
                                                                   const std::vector<collision::ManifoldPoint>& manifold,
-                                                                  bool* apart) const {
+                                                                  bool* apart,
+                                                                  collision::NearbyTrianglePairs* nearby) const {
   // Only pairs within the contact tolerance (with a manifold) can cross. (Their features
   // do not show it: a mesh's distances are unsigned, and crossing edges pass through
   // faces, not through edges: two bunnies 0.3 mm into each other had none closer than 5 um.)
@@ -219,7 +229,7 @@ std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBo
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
   // (The answer "apart" is shared with the CCD of the pair's motions from these poses:
   // see apart_at_.)
-  const auto crossing = collision::find_intersection(mesh_a, a.X_WB, mesh_b, b.X_WB);
+  const auto crossing = collision::find_intersection(mesh_a, a.X_WB, mesh_b, b.X_WB, nearby);
   if (!crossing) {
     if (apart) *apart = true;
     return std::nullopt;
@@ -495,23 +505,29 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     // in practice tens of micrometres at most (11-24 um in a 1000-box pile). The CCD of such
     // pairs (surfaces 1 um apart, edges nearly parallel) took thousands of search nodes
     // and cut steps at times of impact of 1e-6: most of a 1000-box pile's step.
-    // Primitives only: their contact manifolds measure depth exactly; a mesh's can miss
-    // a vertex that went in (a bunny dropped 2 cm onto a table then sank 0.6 mm).
+    // Primitives are checked by their contact manifolds, which measure depth exactly. A
+    // mesh pair (a mesh's manifold can miss a vertex that went in: a bunny dropped 2 cm
+    // onto a table then sank 0.6 mm) is checked by whether its surfaces cross at the end
+    // (check_mesh_crossing), so only when the contact pass found them apart at these
+    // start poses: in a pile of 16 resting bunnies the CCD of such pairs, 250-400 queries
+    // a frame, was 40 % of the live simulator's time and put it seconds behind the camera.
     const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
     // A re-solve changes the motions of the island it touches only; every other pair's
     // motions, and so its answer, are as in the last round.
     CachedImpact fresh;
     CachedImpact& query = cache ? cached(i, j) : fresh;
     if (!query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) {
+      const auto apart = apart_at_.find({i, j});  // (i < j: participants are sorted)
+      const bool apart_at_start = apart != apart_at_.end() && apart->second.X_WA.matrix() == a.X_WB.matrix() &&
+                                  apart->second.X_WB.matrix() == b.X_WB.matrix();
       const bool resting_slowly =
-          resting_pairs && primitive(a) && primitive(b) && relative_motion_m <= options_.contact_tolerance_m &&
+          resting_pairs && ((primitive(a) && primitive(b)) || apart_at_start) &&
+          relative_motion_m <= options_.contact_tolerance_m &&
           std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
       const geometry::ScrewMotion& motion_a = motion_of(p);
       const geometry::ScrewMotion& motion_b = motion_of(q);
       collision::ContinuousOptions ccd = options_.ccd;
-      const auto apart = apart_at_.find({i, j});  // (i < j: participants are sorted)
-      ccd.apart_at_start = apart != apart_at_.end() && apart->second.X_WA.matrix() == a.X_WB.matrix() &&
-                           apart->second.X_WB.matrix() == b.X_WB.matrix();
+      ccd.apart_at_start = apart_at_start;
       query = {true, next[p], next[q],
                resting_slowly ? collision::ContinuousResult{}
                               : collision::time_of_impact(a.shape, motion_a, b.shape, motion_b, ccd),
@@ -545,7 +561,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
                                   next[p].linear().transpose() * point.normal_W, -point.distance_m});
           }
         } else if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
-          check_mesh_crossing(a, motion_a, b, motion_b, relative_motion_m, query);
+          check_mesh_crossing(a, motion_a, b, motion_b, relative_motion_m, query, nearby_pairs(i, j));
         }
         query.deepens = !query.hits.empty() || query.free_until < 1;
       }
@@ -571,7 +587,7 @@ double World::deepest_overlap(int a, const geometry::Pose& X_WA, int b, const ge
 
 void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
                                 const geometry::ScrewMotion& motion_b, double relative_motion_m,
-                                CachedImpact& query) const {
+                                CachedImpact& query, collision::NearbyTrianglePairs* nearby) const {
   // A mesh's manifold cannot say how deep a point went (a scanned bunny has no inside:
   // its distances are unsigned), and the CCD, touching at the start, times nothing after
   // it. Whether the surfaces cross it can say. If they do at the end, the last fraction
@@ -586,7 +602,7 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
   const collision::CollisionMesh& mesh_a = *a.shape.triangles();
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
   const auto crosses = [&](double t) {
-    return collision::intersects(mesh_a, motion_a.pose_at(t), mesh_b, motion_b.pose_at(t));
+    return collision::intersects(mesh_a, motion_a.pose_at(t), mesh_b, motion_b.pose_at(t), nearby);
   };
   if (!crosses(1.0)) return;
   double free = 0, crossing = 1;
@@ -599,7 +615,7 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
   // What can touch within the bisection's last interval.
   const double reach_m = options_.contact_gap_m + relative_motion_m * (crossing - free);
   for (const auto& point :
-       reduce_manifold(collision::contact_manifold(a.shape, X_A, b.shape, X_B, reach_m), options_.max_contacts_per_pair))
+       reduce_manifold(collision::contact_manifold(a.shape, X_A, b.shape, X_B, reach_m, nearby), options_.max_contacts_per_pair))
     query.hits.push_back({X_A.inverse() * point.point_A_W, X_B.inverse() * point.point_B_W,
                           X_A.linear().transpose() * point.normal_W});
 }
@@ -911,6 +927,14 @@ StepReport World::step(double dt_s) {
   }
   // The step's first solve, for everything at once.
   apart_at_.clear();
+  for (auto it = nearby_.begin(); it != nearby_.end();) {
+    if (!it->second.used) {
+      it = nearby_.erase(it);
+    } else {
+      it->second.used = false;
+      ++it;
+    }
+  }
   set_kinematic_state(everyone, time_s_, dt_s);
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;

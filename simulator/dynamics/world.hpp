@@ -244,17 +244,20 @@ class World {
   // ways that clear them, as deep as B must move that way (to a factor of two, up to
   // kDeepestCrossingMeasured_m). A mesh's own manifold does not measure crossings (its
   // distances are unsigned): a crossed pair stayed crossed for hundreds of steps.
-  // (apart: set when the meshes were found not to cross at all.)
+  // (apart: set when the meshes were found not to cross at all; nearby: the pair's
+  // triangle pairs near each other, for the intersection test at the current poses.)
   std::optional<collision::ManifoldPoint> mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
                                                               const std::vector<collision::ManifoldPoint>& manifold,
-                                                              bool* apart = nullptr) const;
+                                                              bool* apart = nullptr,
+                                                              collision::NearbyTrianglePairs* nearby = nullptr) const;
   // Mesh crossings deeper than this are not measured.
   static constexpr double kDeepestCrossingMeasured_m = 0.01;
   // For a mesh pair the CCD found touching at the start: whether its surfaces cross at
   // the end of the motion; if so, the fraction of the motion before they do
   // (query.free_until) and the features touching there (query.hits).
   void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
-                           const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query) const;
+                           const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query,
+                           collision::NearbyTrianglePairs* nearby) const;
   // The fraction of the motions to `next` at which no touching pair that deepens is
   // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
   // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
@@ -283,6 +286,15 @@ class World {
     geometry::Pose X_WA, X_WB;
   };
   mutable std::map<std::pair<int, int>, ApartAt> apart_at_;
+  // Mesh pairs' triangle pairs near each other (collision::NearbyTrianglePairs), kept
+  // from step to step while the contact pass meets the pair (an entry a step did not use
+  // is dropped at the next). A memo, so mutable.
+  struct Nearby {
+    collision::NearbyTrianglePairs pairs;
+    bool used = false;
+  };
+  mutable std::map<std::pair<int, int>, Nearby> nearby_;
+  collision::NearbyTrianglePairs* nearby_pairs(int i, int j) const;
   double time_s_ = 0;
 };
 

@@ -143,6 +143,62 @@ TEST(DiscreteQuery, EdgeContactsOfASolidHaveNormalsBetweenItsFaces) {
   }
 }
 
+// A bunny rolling slowly on another and on a box table, through contact and crossing:
+// with NearbyTrianglePairs the manifold and the intersection test give exactly what a
+// full descent gives, at every pose, while most queries reuse the kept pairs.
+TEST(DiscreteQuery, NearbyTrianglePairsGiveTheDescentsAnswersBitForBit) {
+  const auto bunny = CollisionMesh::load(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.obj",
+                                         Eigen::Vector3d::Constant(0.8));
+  const CollisionMesh table(geometry::make_box_mesh({1.2, 0.8, 0.04}));
+  const geometry::Pose X_WA = geometry::translation_pose({0.01, 0.02, 0.03});
+  const double tolerance_m = 1e-3;
+  for (const CollisionMesh* other : {bunny.get(), &table}) {
+    NearbyTrianglePairs nearby;
+    int contacts = 0, crossings = 0;
+    for (int k = 0; k < 200; ++k) {
+      // B sinks through A's surface and turns, 0.1 mm and 1 mrad a query; two jumps.
+      geometry::Pose X_WB = geometry::rotation_pose(Eigen::Vector3d(1, 2, 3).normalized(), 1e-3 * k);
+      X_WB.translation() = X_WA.translation() + Eigen::Vector3d(0.02, 0.0, other == &table ? 0.045 : 0.075) -
+                           Eigen::Vector3d(0, 0, 1e-4 * k) + (k == 80 || k == 81 ? Eigen::Vector3d(0.05, 0, 0) : Eigen::Vector3d::Zero());
+      const auto fresh = contact_manifold(*other, X_WA, *bunny, X_WB, tolerance_m);
+      const auto kept = contact_manifold(*other, X_WA, *bunny, X_WB, tolerance_m, &nearby);
+      ASSERT_EQ(fresh.size(), kept.size()) << "query " << k;
+      for (std::size_t i = 0; i < fresh.size(); ++i) {
+        EXPECT_EQ(fresh[i].point_A_W, kept[i].point_A_W);
+        EXPECT_EQ(fresh[i].normal_W, kept[i].normal_W);
+        EXPECT_EQ(fresh[i].distance_m, kept[i].distance_m);
+      }
+      const auto fresh_crossing = find_intersection(*other, X_WA, *bunny, X_WB);
+      const auto kept_crossing = find_intersection(*other, X_WA, *bunny, X_WB, &nearby);
+      ASSERT_EQ(fresh_crossing.has_value(), kept_crossing.has_value()) << "query " << k;
+      if (fresh_crossing) {
+        EXPECT_EQ(fresh_crossing->triangle_A, kept_crossing->triangle_A);
+        EXPECT_EQ(fresh_crossing->triangle_B, kept_crossing->triangle_B);
+        ++crossings;
+      }
+      contacts += !fresh.empty();
+    }
+    // The sequence went from apart through contact into crossing, ...
+    EXPECT_GT(contacts, 20);
+    EXPECT_GT(crossings, 20);
+    // ... and most queries used the kept pairs (a jump or a drift past the spare margin descends).
+    EXPECT_GT(nearby.reuses, 3 * nearby.descents);
+  }
+}
+
+TEST(DiscreteQuery, NearbyTrianglePairsOfOtherMeshesAreNotUsed) {
+  const CollisionMesh small(geometry::make_box_mesh({0.2, 0.2, 0.2})), large(geometry::make_box_mesh({0.4, 0.4, 0.4}));
+  const geometry::Pose X_WB = geometry::translation_pose({0.1995, 0, 0});
+  NearbyTrianglePairs nearby;
+  for (int k = 0; k < 3; ++k) contact_manifold(small, geometry::Pose::Identity(), small, X_WB, 1e-3, &nearby);
+  ASSERT_GT(nearby.reuses, 0);
+  // The same poses with another mesh: the kept node indices belong to the other trees.
+  const int descents = nearby.descents;
+  EXPECT_EQ(contact_manifold(large, geometry::Pose::Identity(), small, X_WB, 1e-3, &nearby).size(),
+            contact_manifold(large, geometry::Pose::Identity(), small, X_WB, 1e-3).size());
+  EXPECT_EQ(nearby.descents, descents + 1);
+}
+
 TEST(TriangleDistance, CrossingTrianglesAreAtZeroDistance) {
   const Eigen::Vector3d a[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   const Eigen::Vector3d b[3] = {{0.2, 0.2, -1}, {0.2, 0.2, 1}, {0.3, 0.9, 0.5}};  // pierces a
