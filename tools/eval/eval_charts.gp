@@ -59,8 +59,8 @@ set xlabel 'ms per step (log)'
 set ylabel 'upright rest position error (mm, log; 0 shown at 0.01)'
 set key top right
 at_least_001(x) = x > 0.01 ? x : 0.01
-plot sprintf("< awk -F, 'NR > 1 && $3 == 1' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %s', stringcolumn(1), stringcolumn(11))) with labels point pt 7 ps 1.4 lc rgb '#0060c0' offset 1,0.5 left font ',8' title 'friction 0.5', \
-     sprintf("< awk -F, 'NR > 1 && $3 == 0' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %s', stringcolumn(1), stringcolumn(11))) with labels point pt 5 ps 1.4 lc rgb '#cc4400' offset 1,-0.5 left font ',8' title 'frictionless'
+plot sprintf("< awk -F, 'NR > 1 && $3 == 1' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %s', stringcolumn(1), stringcolumn(10))) with labels point pt 7 ps 1.4 lc rgb '#0060c0' offset 1,0.5 left font ',8' title 'friction 0.5', \
+     sprintf("< awk -F, 'NR > 1 && $3 == 0' '%s/eval_model_size.csv'", dir) using 4:(at_least_001($8)):(sprintf('%s, %s', stringcolumn(1), stringcolumn(10))) with labels point pt 5 ps 1.4 lc rgb '#cc4400' offset 1,-0.5 left font ',8' title 'frictionless'
 unset logscale
 set xrange [*:*]
 

@@ -324,11 +324,11 @@ def main():
     w("## Where we fall short\n")
     w("Derived from this run's figures:\n")
     w("\n".join(f"- {s}" for s in shortfalls) if shortfalls else "- none in this run's figures.")
-    w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml): "
-      "its frictional bunnies at 10 ms steps fell behind the camera on 2 cores, measured before the twelfth session's "
-      "launch-guard change made the frictionless 20-bunny benchmark scene about twice as fast (about real time at "
-      "10 ms, docs/dynamics.md) and not measured since; the quick run has no N = 1000 drop, where we stay within "
-      "1 um of overlap but are far slower per step than ODE quickstep (7-9x, docs/dynamics.md, scene 6).\n")
+    w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml); "
+      "in a live five-minute run on 2 cores its simulator keeps up with the camera at 6-7 ms per step since the "
+      "thirteenth session (before, a pile of resting bunnies that never quite rested put it seconds behind; "
+      "docs/pipeline.md); 10 ms steps have not been measured live since. The quick run has no N = 1000 drop, where "
+      "we stay within 1 um of overlap but are far slower per step than ODE quickstep (7-9x, docs/dynamics.md, scene 6).\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
