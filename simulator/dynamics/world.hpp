@@ -252,9 +252,10 @@ class World {
                                                               collision::NearbyTrianglePairs* nearby = nullptr) const;
   // Mesh crossings deeper than this are not measured.
   static constexpr double kDeepestCrossingMeasured_m = 0.01;
-  // For a mesh pair the CCD found touching at the start: whether its surfaces cross at
-  // the end of the motion; if so, the fraction of the motion before they do
-  // (query.free_until) and the features touching there (query.hits).
+  // For a mesh pair the CCD found touching at the start, or one resting and moving less
+  // than the contact tolerance (not swept): whether its surfaces cross at the end of the
+  // motion; if so, the fraction of the motion before they do (query.free_until) and the
+  // features touching there (query.hits). nearby: as for mesh_crossing_depth.
   void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
                            const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query,
                            collision::NearbyTrianglePairs* nearby) const;

@@ -6,6 +6,8 @@
 #include <assimp/Importer.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -41,6 +43,15 @@ void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& pa
 }
 
 }  // namespace
+
+void save_obj(const TriangleMesh& mesh, const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out.precision(std::numeric_limits<float>::max_digits10);
+  for (const auto& v : mesh.vertices_m) out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+  for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+  if (!out.flush()) throw std::runtime_error("writing " + path + " failed");
+}
 
 TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   if (!std::filesystem::is_regular_file(path)) {

@@ -25,6 +25,11 @@ struct TriangleMesh {
 // missing, cannot be parsed or holds no triangles.
 TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
 
+// Writes the mesh as Wavefront OBJ (`v` and `f` lines only), coordinates to 9
+// significant digits: what load_mesh keeps (assimp reads single precision). Throws
+// std::runtime_error naming the path when it cannot be written.
+void save_obj(const TriangleMesh& mesh, const std::string& path);
+
 // Boundary edges (used by exactly one triangle) and non-manifold edges (more than two).
 struct MeshTopology {
   std::size_t boundary_edges = 0;

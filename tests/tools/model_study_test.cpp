@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 
 #include "configs/loader/scene_config.hpp"
 #include "simulator/dynamics/scene_world.hpp"

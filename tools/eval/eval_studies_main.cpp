@@ -3,7 +3,8 @@
 //                 a pushed bunny does (docs/EVALUATION.md, "stability where methods fail")
 //   loss-flip     lost tracks (re-acquired further on) and pose flips, same scenario
 //   model-size    table plane/box/mesh, bunny mesh 500..70k triangles, friction on/off:
-//                 accuracy (a bunny set down upright, dropped bunnies' rest poses) against cost ("model no more than a scene needs")
+//                 accuracy (a bunny set down upright, dropped bunnies' rest poses) against
+//                 cost ("model no more than a scene needs")
 // Each writes one CSV into --out and prints a progress line per run.
 #include <CLI/CLI.hpp>
 

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -10,17 +9,6 @@
 #include "simulator/geometry/triangle_mesh.hpp"
 
 namespace arphys::eval {
-
-namespace {
-
-void write_obj(const geometry::TriangleMesh& mesh, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  for (const auto& v : mesh.vertices_m) out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
-  for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-}
-
-}  // namespace
 
 ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelVariant& v, double duration_s,
                                const std::string& work_dir) {
@@ -40,7 +28,7 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     table->X_WO = geometry::Pose::Identity();  // the top surface, z = 0
   } else if (v.table == "mesh") {
     const std::string path = work_dir + "/table_box_mesh.obj";
-    write_obj(geometry::make_box_mesh(table_size), path);
+    geometry::save_obj(geometry::make_box_mesh(table_size), path);
     table->collision.type = config::ShapeType::kMesh;
     table->collision.mesh_path = path;
     table->collision.scale = Eigen::Vector3d::Ones();

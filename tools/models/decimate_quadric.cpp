@@ -10,7 +10,6 @@
 #include <meshoptimizer.h>
 
 #include <cstdio>
-#include <fstream>
 #include <vector>
 
 #include "simulator/geometry/triangle_mesh.hpp"
@@ -40,6 +39,8 @@ int main(int argc, char** argv) {
     float error = 0;
     simplified.resize(meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions.data(),
                                        mesh.vertices_m.size(), 3 * sizeof(float), 3 * triangles, max_error, 0, &error));
+    // meshoptimizer's error is relative to its own scale of the mesh (its largest extent).
+    const float scale_m = meshopt_simplifyScale(positions.data(), mesh.vertices_m.size(), 3 * sizeof(float));
     // Keep the vertices still used, in their order, at their input (double) positions.
     std::vector<int> remap(mesh.vertices_m.size(), -1);
     arphys::geometry::TriangleMesh result;
@@ -55,21 +56,13 @@ int main(int argc, char** argv) {
       }
       result.triangles.push_back(t);
     }
-    std::ofstream file(out);
-    if (!file) throw std::runtime_error("cannot write " + out);
-    char line[128];
-    for (const auto& v : result.vertices_m) {
-      std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
-      file << line;
-    }
-    for (const auto& t : result.triangles) file << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-    if (!file) throw std::runtime_error("writing " + out + " failed");
+    arphys::geometry::save_obj(result, out);
     const auto edges = arphys::geometry::mesh_topology(mesh);
     const auto result_edges = arphys::geometry::mesh_topology(result);
     std::printf("%s: %zu -> %zu triangles, deviation %.3g of the extent (%.3g m); boundary edges %zu -> %zu, "
                 "non-manifold edges %zu -> %zu\n",
                 out.c_str(), mesh.num_triangles(), result.num_triangles(), error,
-                error * mesh.bounds().diagonal().norm(), edges.boundary_edges, result_edges.boundary_edges,
+                error * scale_m, edges.boundary_edges, result_edges.boundary_edges,
                 edges.non_manifold_edges, result_edges.non_manifold_edges);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "decimate-quadric: %s\n", e.what());

@@ -4,10 +4,10 @@
 #include <gtest/gtest.h>
 
 #include "configs/loader/scene_config.hpp"
-#include "simulator/geometry/mass_properties.hpp"
-#include "simulator/geometry/triangle_mesh.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
+#include "simulator/geometry/mass_properties.hpp"
+#include "simulator/geometry/triangle_mesh.hpp"
 
 namespace arphys::dynamics {
 namespace {

@@ -28,6 +28,21 @@ TEST(TriangleMesh, LoadsBinaryPly) {
   EXPECT_NEAR(mesh.bounds().sizes().x(), 0.1557, 1e-4);
 }
 
+TEST(TriangleMesh, SavedObjLoadsBackTheSameTriangles) {
+  TriangleMesh mesh = make_box_mesh({1.2, 0.8, 0.04});
+  mesh.vertices_m[0].z() = 0.123456789;  // more digits than the default six keep (0.123457)
+  const std::string path = testing::TempDir() + "/saved_box.obj";
+  save_obj(mesh, path);
+  const TriangleMesh back = load_mesh(path);
+  ASSERT_EQ(back.num_triangles(), mesh.num_triangles());
+  // Corner by corner, to single precision (what assimp reads).
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LT((back.vertices_m[back.triangles[t][k]] - mesh.vertices_m[mesh.triangles[t][k]]).norm(), 1e-7)
+          << "triangle " << t << " corner " << k;
+  EXPECT_THROW(save_obj(mesh, "/nonexistent-dir/x.obj"), std::runtime_error);
+}
+
 TEST(TriangleMesh, MissingFileNamesThePath) {
   try {
     load_mesh("/nonexistent/dir/teapot.obj");
