@@ -156,6 +156,20 @@ Eigen::Vector3d within_edge_normals(const Eigen::Vector3d& normal_out, const Eig
   return c * middle + (normal_out.dot(side) >= 0 ? t : -t) * side;
 }
 
+// Whether a point at `offset` from a solid's edge lies inside the solid there. edge_W
+// runs counter-clockwise on the face with unit normal face_W; faces_sum_W is the sum of
+// both faces' normals. Across a convex edge the inside is behind both faces, across a
+// concave one behind either.
+bool beside_edge_inside(const Eigen::Vector3d& offset, const Eigen::Vector3d& edge_W, const Eigen::Vector3d& face_W,
+                        const Eigen::Vector3d& faces_sum_W) {
+  const Eigen::Vector3d other_W = faces_sum_W - face_W;
+  const bool behind_face = offset.dot(face_W) < 0, behind_other = offset.dot(other_W) < 0;
+  // Convex: the other face turns away from this face's side of the edge (face x edge
+  // points from the edge into this face).
+  const bool convex = other_W.dot(face_W.cross(edge_W)) < 0;
+  return convex ? behind_face && behind_other : behind_face || behind_other;
+}
+
 // Collects the feature contacts of close triangle pairs without duplicates: a vertex
 // over a face (keyed by the vertex and the face's normal, so one vertex on two coplanar
 // triangles counts once) or two edges crossing (keyed by their vertex indices).
@@ -181,7 +195,7 @@ class ManifoldBuilder {
       vertex_face(a[k], out_A, b, nB, B_.closed(), -1, -1 - ia[k], {ta, tb});
     }
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) edge_edge(a, i, b, j, ia, ib, {ta, tb});
+      for (int j = 0; j < 3; ++j) edge_edge(a, i, nA, b, j, nB, ia, ib, {ta, tb});
   }
 
   std::vector<ManifoldPoint> take() { return std::move(points_); }
@@ -219,8 +233,9 @@ class ManifoldBuilder {
     points_.push_back({on_A, on_B, normal, normal.dot(on_B - on_A), pair});
   }
 
-  void edge_edge(const Eigen::Vector3d a[3], int i, const Eigen::Vector3d b[3], int j, const Eigen::Vector3i& ia,
-                 const Eigen::Vector3i& ib, TrianglePair pair) {
+  // nA, nB: the unit normals of the triangles the edges were taken from (counter-clockwise).
+  void edge_edge(const Eigen::Vector3d a[3], int i, const Eigen::Vector3d& nA, const Eigen::Vector3d b[3], int j,
+                 const Eigen::Vector3d& nB, const Eigen::Vector3i& ia, const Eigen::Vector3i& ib, TrianglePair pair) {
     if (A_.is_flat_edge(ia[i], ia[(i + 1) % 3]) || B_.is_flat_edge(ib[j], ib[(j + 1) % 3])) return;
     const Eigen::Vector3d p0 = a[i], p1 = a[(i + 1) % 3], q0 = b[j], q1 = b[(j + 1) % 3];
     Eigen::Vector3d n = (p1 - p0).cross(q1 - q0);
@@ -236,16 +251,26 @@ class ManifoldBuilder {
     const auto key = std::make_pair(std::minmax(ia[i], ia[(i + 1) % 3]), std::minmax(ib[j], ib[(j + 1) % 3]));
     if (!edge_keys_.insert(key).second) return;
     n.normalize();
-    // Orient from A to B: out of A and into B by the outward normals of whichever is a
-    // solid, else by the closest points (or the bodies' origins when touching). The
-    // closest points point the wrong way once the edges have crossed: a box edge that a
-    // bunny's edge had passed by 0.2 mm got a normal into the box, and with the box's
-    // face contacts the bunny's push-out was contradictory (infeasible) at every step.
+    // Orient from A to B. Edges apart (neither closest point inside the other solid
+    // beside its edge): along the closest points. Edges crossed or touching: out of A
+    // and into B by the outward normals of whichever is a solid (the closest points
+    // then point the wrong way: a box edge that a bunny's edge had passed by 0.2 mm got
+    // a normal into the box, and with the box's face contacts the bunny's push-out was
+    // contradictory at every step); two shells: by the bodies' origins when touching.
+    // (Judging "crossed" by the sum of the faces' normals alone called a bunny's edge
+    // 0.5 mm above a table's top and 0.8 mm in from its rim crossed: a contact 0.8 mm
+    // deep, pushed apart where nothing overlapped, as a bunny slid off the table.)
+    const Eigen::Vector3d outward_A = X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]);
+    const Eigen::Vector3d outward_B = X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]);
+    const bool apart = d > 1e-12 && !(A_.closed() && beside_edge_inside(pb - pa, p1 - p0, nA, outward_A)) &&
+                       !(B_.closed() && beside_edge_inside(pa - pb, q1 - q0, nB, outward_B));
     Eigen::Vector3d from_A_to_B = Eigen::Vector3d::Zero();
-    if (A_.closed()) from_A_to_B += X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]);
-    if (B_.closed()) from_A_to_B -= X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]);
-    if (!A_.closed() && !B_.closed()) {
-      from_A_to_B = d > 1e-12 ? Eigen::Vector3d(pb - pa) : X_WB_.translation() - X_WA_.translation();
+    if (A_.closed()) from_A_to_B += outward_A;
+    if (B_.closed()) from_A_to_B -= outward_B;
+    if (apart) {
+      from_A_to_B = pb - pa;
+    } else if (!A_.closed() && !B_.closed()) {
+      from_A_to_B = X_WB_.translation() - X_WA_.translation();
     }
     if (n.dot(from_A_to_B) < 0) n = -n;
     // On a solid, a contact across an edge has its normal between its two faces' normals.
@@ -254,8 +279,8 @@ class ManifoldBuilder {
     // into the box, contradicted the box's face contacts step after step; dropped, a
     // bunny's base edges resting on a table's rim, tilted a hair outside its normals,
     // left it unsupported there, and it waited on the table at every step.)
-    if (A_.closed()) n = within_edge_normals(n, p1 - p0, X_WA_.linear() * A_.edge_outward(ia[i], ia[(i + 1) % 3]));
-    if (B_.closed()) n = -within_edge_normals(-n, q1 - q0, X_WB_.linear() * B_.edge_outward(ib[j], ib[(j + 1) % 3]));
+    if (A_.closed()) n = within_edge_normals(n, p1 - p0, outward_A);
+    if (B_.closed()) n = -within_edge_normals(-n, q1 - q0, outward_B);
     points_.push_back({pa, pb, n, n.dot(pb - pa), pair});
   }
 

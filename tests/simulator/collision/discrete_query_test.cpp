@@ -143,6 +143,40 @@ TEST(DiscreteQuery, EdgeContactsOfASolidHaveNormalsBetweenItsFaces) {
   }
 }
 
+// An open surface's edge passing over a solid's rim, 0.53 mm above its top face and
+// 0.79 mm in from the side face: nothing overlaps. Its closest points to the rim lie
+// outside the solid, so the edges are apart and the contact is the top face's, at that
+// height. (Judged by the sum of the faces' normals, the pair counted as crossed and got
+// the side face's normal: a contact 0.79 mm deep where a bunny slid off a table's rim,
+// pushed apart at the depenetration speed, and reported as the step's penetration.)
+TEST(DiscreteQuery, AnEdgeAboveASolidsRimIsApartWithTheTopFacesNormal) {
+  const CollisionMesh box(geometry::make_box_mesh({2, 2, 2}));  // the rim along x at y = z = 1
+  const Eigen::Vector3d over_rim(0, 1 - 0.79e-3, 1 + 0.53e-3);   // the sheet edge's closest point
+  const Eigen::Vector3d along = Eigen::Vector3d(1, 0.053, 0.079).normalized();  // square to the offset
+  geometry::TriangleMesh sheet;
+  sheet.vertices_m = {over_rim - 2e-3 * along, over_rim + 2e-3 * along, over_rim + Eigen::Vector3d(0, -3e-3, 3e-3)};
+  sheet.triangles = {{0, 1, 2}};
+  const CollisionMesh open(sheet);
+  for (const bool box_first : {true, false}) {
+    auto points = box_first ? contact_manifold(box, geometry::Pose::Identity(), open, geometry::Pose::Identity(), 1e-3)
+                            : contact_manifold(open, geometry::Pose::Identity(), box, geometry::Pose::Identity(), 1e-3);
+    int at_rim = 0;
+    for (auto& p : points) {
+      if (!box_first) {
+        p.normal_W = -p.normal_W;
+        std::swap(p.point_A_W, p.point_B_W);
+      }
+      EXPECT_GT(p.distance_m, 0.3e-3) << "box first: " << box_first << ", normal " << p.normal_W.transpose();
+      if (std::abs(p.point_A_W.y() - 1) < 1e-9 && std::abs(p.point_A_W.z() - 1) < 1e-9) {
+        ++at_rim;
+        EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+        EXPECT_NEAR(p.distance_m, 0.53e-3, 1e-9);
+      }
+    }
+    EXPECT_EQ(at_rim, 1) << "box first: " << box_first;
+  }
+}
+
 // A bunny rolling slowly on another and on a box table, through contact and crossing:
 // with NearbyTrianglePairs the manifold and the intersection test give exactly what a
 // full descent gives, at every pose, while most queries reuse the kept pairs.
