@@ -168,5 +168,39 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
   EXPECT_LE(fastest_m_s, 1.5 * world.options().max_depenetration_speed_m_s);  // and not launched
 }
 
+// A mesh cube placed with its lowest corner 0.5 to 8 mm into the box table (a scene
+// file's or a spawn's mistake; stepped bodies never get there). Deeper than the contact
+// tolerance no feature is near, and the cube fell through the table from 1.6 mm; from
+// 3 mm the push-out, acting at the crossing triangles' middle (the table top's spans the
+// table), turned it about its rim instead of lifting it. It rises at the depenetration
+// speed, no faster, and rests on the table.
+TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
+  for (const double depth_m : {0.5e-3, 1.6e-3, 3e-3, 6e-3, 8e-3}) {
+    config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+    for (auto& o : scene.objects) o.spawn_at_start.clear();
+    World world = build_world(scene);
+    world.remove_body(world.find("bunny"));
+    RigidBody cube;
+    cube.id = "mesh-cube";
+    const Eigen::Vector3d size_m(0.08, 0.08, 0.08);
+    cube.shape = collision::Shape::mesh(std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(size_m)));
+    cube.mass = geometry::with_mass(geometry::box_mass_properties(size_m, 1000), 0.2);
+    cube.X_WB = geometry::rotation_pose(Eigen::Vector3d::UnitX(), 0.04);  // one bottom edge lowest
+    cube.X_WB.translation() = Eigen::Vector3d(-0.2, -0.2, -depth_m - lowest_z(cube));
+    const int index = world.add_body(std::move(cube));
+    double fastest_m_s = 0;  // while it is being pushed out (out, it tips flat, as it would)
+    for (int k = 0; k < 100; ++k) {
+      const bool inside = lowest_z(world.bodies()[index]) < 0;
+      world.step(0.01);
+      if (inside) fastest_m_s = std::max(fastest_m_s, world.bodies()[index].v_WC_m_s.norm());
+    }
+    const RigidBody& body = world.bodies()[index];
+    EXPECT_GE(lowest_z(body), 0) << "placed " << depth_m << " m deep";
+    EXPECT_LE(lowest_z(body), 1e-5) << "placed " << depth_m << " m deep";
+    EXPECT_LT(body.v_WC_m_s.norm(), 1e-6) << "placed " << depth_m << " m deep";
+    EXPECT_LE(fastest_m_s, 1.5 * world.options().max_depenetration_speed_m_s) << "placed " << depth_m << " m deep";
+  }
+}
+
 }  // namespace
 }  // namespace arphys::dynamics
