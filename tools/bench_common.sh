@@ -12,4 +12,10 @@ bench_setup() {
     bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x | head -n 1)"
   fi
   command -v gnuplot >/dev/null || { echo "gnuplot missing: run tools/install_deps.sh" >&2; exit 1; }
+  # The machine the figures come from (these machines are shared and vary from day to
+  # day: ratios to the peers compare, absolute times only on the same machine).
+  local cpu
+  cpu="$(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -n 1)"
+  printf '%s, %s, %s CPUs, commit %s\n' "$(date -u '+%F %H:%M UTC')" "${cpu:-unknown CPU}" "$(nproc)" \
+    "$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)" | tee "$out/machine.txt" >&2
 }
