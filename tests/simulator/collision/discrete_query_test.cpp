@@ -177,6 +177,44 @@ TEST(DiscreteQuery, AnEdgeAboveASolidsRimIsApartWithTheTopFacesNormal) {
   }
 }
 
+// Beside a concave edge the solid is behind either face. An L-shaped solid (its inner
+// edge along x at y = z = 1, the lower arm's top face z = 1 for y in [1, 2], the upper
+// arm's side face y = 1 for z in [1, 2]); a sheet's edge passes 0.3 mm out past the side
+// face's plane but 0.8 mm below the top face: inside the lower arm. The edges have
+// crossed, and the contact says so (negative, the top face's normal); judged as across a
+// convex edge (behind both faces) they would be apart by 0.3 mm.
+TEST(DiscreteQuery, AnEdgeInsideASolidBesideItsConcaveEdgeHasCrossed) {
+  const double profile[6][2] = {{0, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}};  // (y, z), counter-clockwise from +x
+  geometry::TriangleMesh l_shape;
+  for (const double x : {-1.0, 1.0})
+    for (const auto& yz : profile) l_shape.vertices_m.emplace_back(x, yz[0], yz[1]);
+  for (int k = 0; k < 6; ++k) {  // sides: back vertex k, front vertex 6 + k
+    const int next = (k + 1) % 6;
+    l_shape.triangles.emplace_back(k, next, 6 + next);
+    l_shape.triangles.emplace_back(k, 6 + next, 6 + k);
+  }
+  for (const auto& fan : {Eigen::Vector3i(0, 1, 2), Eigen::Vector3i(0, 2, 3), Eigen::Vector3i(0, 3, 4), Eigen::Vector3i(0, 4, 5)}) {
+    l_shape.triangles.emplace_back(6 + fan[0], 6 + fan[1], 6 + fan[2]);  // front cap, +x
+    l_shape.triangles.emplace_back(fan[0], fan[2], fan[1]);              // back cap, -x
+  }
+  const CollisionMesh solid(l_shape);
+  ASSERT_TRUE(solid.closed());
+  const Eigen::Vector3d inside(0, 1 + 0.3e-3, 1 - 0.8e-3);  // the sheet edge's closest point
+  const Eigen::Vector3d along = Eigen::Vector3d(1, 0.08, 0.03).normalized();  // square to the offset
+  geometry::TriangleMesh sheet;
+  sheet.vertices_m = {inside - 2e-3 * along, inside + 2e-3 * along, inside + Eigen::Vector3d(0, 3e-3, -3e-3)};
+  sheet.triangles = {{0, 1, 2}};
+  const CollisionMesh open(sheet);
+  int at_edge = 0;
+  for (const auto& p : contact_manifold(solid, geometry::Pose::Identity(), open, geometry::Pose::Identity(), 1e-3)) {
+    if ((p.point_A_W - Eigen::Vector3d(p.point_A_W.x(), 1, 1)).norm() > 1e-9) continue;
+    ++at_edge;
+    EXPECT_NEAR(p.normal_W.z(), 1.0, 1e-12);
+    EXPECT_NEAR(p.distance_m, -0.8e-3, 1e-9);
+  }
+  EXPECT_EQ(at_edge, 1);
+}
+
 // A bunny rolling slowly on another and on a box table, through contact and crossing:
 // with NearbyTrianglePairs the manifold and the intersection test give exactly what a
 // full descent gives, at every pose, while most queries reuse the kept pairs.
