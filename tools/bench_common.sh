@@ -1,5 +1,6 @@
 # Sourced by the tools/*_bench/run_benchmarks.sh scripts:
-#   bench_setup RESULTS_SUBDIR TARGET   sets root, build, out (created) and bench (built if missing)
+#   bench_setup RESULTS_SUBDIR TARGET   sets root, build, out (created) and bench (built if missing),
+#                                       and records the machine (record_machine, below)
 bench_setup() {
   root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
   build="${ARPHYS_BUILD_DIR:-$root/build}"
@@ -12,10 +13,15 @@ bench_setup() {
     bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x | head -n 1)"
   fi
   command -v gnuplot >/dev/null || { echo "gnuplot missing: run tools/install_deps.sh" >&2; exit 1; }
-  # The machine the figures come from (these machines are shared and vary from day to
-  # day: ratios to the peers compare, absolute times only on the same machine).
+  record_machine "$root" "$out"
+}
+
+#   record_machine ROOT OUTDIR   writes OUTDIR/machine.txt: when, which CPU, how many, which commit.
+# These machines are shared and vary from day to day: ratios to the peers compare across
+# runs, absolute times only on the same machine.
+record_machine() {
   local cpu
   cpu="$(lscpu 2>/dev/null | sed -n 's/^Model name: *//p' | head -n 1)"
   printf '%s, %s, %s CPUs, commit %s\n' "$(date -u '+%F %H:%M UTC')" "${cpu:-unknown CPU}" "$(nproc)" \
-    "$(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown)" | tee "$out/machine.txt" >&2
+    "$(git -C "$1" describe --always --dirty 2>/dev/null || echo unknown)" | tee "$2/machine.txt" >&2
 }

@@ -15,6 +15,8 @@ if [[ ! -x "$bench" ]]; then
   cmake --build "$build" --target arphys-ccd-bench -j"$(nproc)"
 fi
 command -v gnuplot >/dev/null || { echo "gnuplot missing: run tools/install_deps.sh" >&2; exit 1; }
+source "$root/tools/bench_common.sh"
+record_machine "$root" "$out"
 
 quick=0
 [[ "${1:-}" == "--quick" ]] && quick=1
