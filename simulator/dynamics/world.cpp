@@ -135,6 +135,13 @@ int World::add_body(RigidBody body) {
   return static_cast<int>(bodies_.size()) - 1;
 }
 
+void World::place_body(int index, const geometry::Pose& X_WB) {
+  RigidBody& placed = bodies_.at(index);
+  if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + placed.id + "': non-finite pose");
+  placed.X_WB = X_WB;
+  placed_since_step_.at(index) = 1;
+}
+
 void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);
@@ -143,7 +150,7 @@ void World::remove_body(int index) {
   nearby_.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
   placed_since_step_.assign(bodies_.size(), 1);
-  deep_crossing_.clear();
+  placed_crossing_.clear();
 }
 
 collision::NearbyTrianglePairs* World::nearby_pairs(int i, int j) const {
@@ -195,13 +202,13 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options_.max_contacts_per_pair);
     if (!depth_measured(a, b)) {
       bool apart = false;
-      const bool placed = placed_since_step_[i] || placed_since_step_[j] || deep_crossing_.count({i, j});
+      const bool placed = placed_since_step_[i] || placed_since_step_[j] || placed_crossing_.count({i, j});
       const auto crossing = mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
       if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
       if (crossing && placed) {
-        deep_crossing_.insert({i, j});
+        placed_crossing_.insert({i, j});
       } else if (!crossing) {
-        deep_crossing_.erase({i, j});
+        placed_crossing_.erase({i, j});
       }
       if (crossing) {
         // The crossing features' normals point to the side their vertex is on, which for
@@ -268,7 +275,7 @@ std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBo
     for (const Eigen::Vector3d& direction : directions)
       for (const double sign : {1.0, -1.0}) {
         if (!clears(sign * shift_m * direction)) continue;
-        // Where the triangles cross; for a placed pair (see deep_crossing_) at the dynamic
+        // Where the triangles cross; for a placed pair (see placed_crossing_) at the dynamic
         // body's centre of mass (midway between two dynamic ones'): the crossing
         // triangles can be anywhere on either (a table's top triangle spans the table),
         // and a push at their middle turned a sunken cube about its rim instead of

@@ -136,6 +136,10 @@ class World {
   double time_s() const { return time_s_; }
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   RigidBody& body(int index) { return bodies_.at(index); }
+  // Moves a body to a pose (not along a motion: nothing is swept), as add_body places
+  // one: its next step tests its pairs for crossing deeper than the contact tolerance
+  // (see placed_crossing_). std::invalid_argument names the body for a non-finite pose.
+  void place_body(int index, const geometry::Pose& X_WB);
   int find(const std::string& id) const;  // -1 when absent
   // Removes a body (indices after it shift down by one).
   void remove_body(int index);
@@ -247,7 +251,7 @@ class World {
   // distances are unsigned): a crossed pair stayed crossed for hundreds of steps.
   // (apart: set when the meshes were found not to cross at all; nearby: the pair's
   // triangle pairs near each other, for the intersection test at the current poses.)
-  // A `placed` pair (see deep_crossing_) is tested with no feature within the tolerance
+  // A `placed` pair (see placed_crossing_) is tested with no feature within the tolerance
   // too, and its contact acts at the dynamic body's centre of mass (midway between two
   // dynamic ones'), so that it lifts a sunken body instead of turning it.
   std::optional<collision::ManifoldPoint> mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
@@ -301,15 +305,16 @@ class World {
   };
   mutable std::map<std::pair<int, int>, Nearby> nearby_;
   // Mesh bodies can cross deeper than the contact tolerance only where nothing stepped
-  // them there: a body added (or every body, after a removal) since the last step.
+  // them there: a body added or placed (or every body, after a removal) since the last step.
   // Their pairs are tested for crossing with no feature within the tolerance, and a
-  // pair found crossing stays in deep_crossing_ (tested so every step) until it is
-  // apart: a crossing pair can turn out of the tolerance before it is out. (Only
+  // pair found crossing stays in placed_crossing_ (tested so every step) until it is
+  // apart: a crossing pair can turn out of the tolerance before it is out. (A pose set
+  // through body() is not seen: add_body and place_body place.) (Only
   // the shallow crossings of stepped pairs were pushed out: a mesh cube placed 1.6 mm
   // into a box table had no feature within 1 mm and fell through it.) Pairs that
   // stepping left crossing are not placed ones: they are pushed out where they cross.
   std::vector<char> placed_since_step_;
-  mutable std::set<std::pair<int, int>> deep_crossing_;
+  mutable std::set<std::pair<int, int>> placed_crossing_;
   collision::NearbyTrianglePairs* nearby_pairs(int i, int j) const;
   double time_s_ = 0;
 };

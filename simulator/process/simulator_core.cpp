@@ -218,7 +218,7 @@ RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) 
       const int index = world_.find(saved.body_id);
       const auto driver = drivers_.find(saved.body_id);
       if (index >= 0 && driver != drivers_.end() && saved.X_WB.matrix().allFinite()) {
-        world_.body(index).X_WB = saved.X_WB;
+        world_.place_body(index, saved.X_WB);
         driver->second.hold_at(world_.time_s(), saved.X_WB);
       }
       continue;
@@ -231,7 +231,7 @@ RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) 
         report.lost.push_back(saved.body_id + ": non-finite state");
         continue;
       }
-      body.X_WB = saved.X_WB;
+      world_.place_body(index, saved.X_WB);
       body.set_origin_velocity(saved.v_WB_m_s, saved.w_WB_rad_s);
       ++report.recovered;
       continue;

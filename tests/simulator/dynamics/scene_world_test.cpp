@@ -199,7 +199,32 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
     EXPECT_LE(lowest_z(body), 1e-5) << "placed " << depth_m << " m deep";
     EXPECT_LT(body.v_WC_m_s.norm(), 1e-6) << "placed " << depth_m << " m deep";
     EXPECT_LE(fastest_m_s, 1.5 * world.options().max_depenetration_speed_m_s) << "placed " << depth_m << " m deep";
+    // Moved there again, as a recovered body is (World::place_body): the same.
+    geometry::Pose again = body.X_WB;
+    again.translation().z() -= depth_m;
+    world.place_body(index, again);
+    for (int k = 0; k < 100; ++k) world.step(0.01);
+    EXPECT_GE(lowest_z(world.bodies()[index]), 0) << "placed again " << depth_m << " m deep";
+    EXPECT_LE(lowest_z(world.bodies()[index]), 1e-5) << "placed again " << depth_m << " m deep";
   }
+}
+
+TEST(SceneWorld, PlacingABodyAtANonFinitePoseIsRefusedByName) {
+  World world;
+  RigidBody box;
+  box.id = "crate";
+  box.shape = collision::Shape::box({0.1, 0.1, 0.1});
+  box.mass = geometry::with_mass(geometry::box_mass_properties({0.1, 0.1, 0.1}, 1000), 1.0);
+  const int index = world.add_body(box);
+  geometry::Pose bad = geometry::Pose::Identity();
+  bad.translation().x() = std::nan("");
+  try {
+    world.place_body(index, bad);
+    FAIL() << "a NaN pose was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("crate"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(world.bodies()[index].X_WB.matrix().allFinite());
 }
 
 }  // namespace
