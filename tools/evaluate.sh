@@ -58,7 +58,7 @@ dynamics() {
 stacks() {
   # The iterative solver takes up to 70 ms per step once a stack topples: --quick leaves it out.
   local engines=arphys,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
-  ((quick)) || engines=arphys,arphys-iterative,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
+  ((quick)) || engines=arphys,arphys-10um,arphys-iterative,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
   "$build/tools/dyn_bench/arphys-dyn-bench" --scenes stack --engines "$engines" --stack-dts 0.001,0.005,0.01,0.02 \
     --stack-seconds "$(n 60 10)" --out "$out" > "$out/dyn/dyn_stack.txt"
 }

@@ -250,7 +250,18 @@ SceneConfig load_scene_checked(const std::string& path_in) {
   }
   if (root["physics"].IsDefined()) {
     const YAML::Node ph = root["physics"];
-    r.only_keys(ph, "physics", {"gravity_m_s2", "time_step_s", "solver", "solver_iterations", "tracking_policy"});
+    r.only_keys(ph, "physics",
+                {"gravity_m_s2", "time_step_s", "solver", "solver_iterations", "tracking_policy", "contact_gap_m",
+                 "overlap_tolerance_m"});
+    // Below 0.1 mm: well inside the 1 mm within which contacts are gathered (a gap near
+    // that would lose its contacts), and an overlap beyond that is no tolerance.
+    for (const auto& [key, field] : {std::pair<const char*, std::optional<double>*>{"contact_gap_m", &scene.contact_gap_m},
+                                     {"overlap_tolerance_m", &scene.overlap_tolerance_m}}) {
+      if (!ph[key].IsDefined()) continue;
+      const std::string name = std::string("physics.") + key;
+      *field = r.positive(ph[key], name, "a positive length in metres, below 1e-4");
+      if (**field >= 1e-4) r.fail(ph[key], name, "got " + ph[key].Scalar() + ", expected a positive length below 1e-4 m");
+    }
     if (ph["solver"].IsDefined()) {
       scene.solver = r.string(ph["solver"], "physics.solver");
       if (scene.solver != "exact" && scene.solver != "iterative")

@@ -76,6 +76,8 @@ WorldOptions world_options_of(const config::SceneConfig& scene) {
   options.gravity_m_s2 = scene.gravity_m_s2;
   options.solver.kind = scene.solver == "iterative" ? ContactSolverKind::kProjectedGaussSeidel : ContactSolverKind::kExact;
   options.solver.iterations = scene.solver_iterations;
+  if (scene.contact_gap_m) options.contact_gap_m = *scene.contact_gap_m;
+  if (scene.overlap_tolerance_m) options.overlap_tolerance_m = *scene.overlap_tolerance_m;
   return options;
 }
 

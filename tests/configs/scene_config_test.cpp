@@ -187,6 +187,27 @@ TEST_F(BadScene, SolverAndTrackingPolicyAreChecked) {
   EXPECT_NE(error.find("expected 'delay' or 'extrapolate'"), std::string::npos) << error;
 }
 
+TEST_F(BadScene, ContactGapAndOverlapToleranceArePositiveLengthsBelowATenthOfAMillimetre) {
+  const std::string ball = "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n";
+  std::string error = load_error(ball, "physics: {contact_gap_m: 0.001}\n");
+  EXPECT_NE(error.find("physics.contact_gap_m: got 0.001, expected a positive length below 1e-4 m"), std::string::npos) << error;
+  error = load_error(ball, "physics: {overlap_tolerance_m: -1e-6}\n");
+  EXPECT_NE(error.find("physics.overlap_tolerance_m"), std::string::npos) << error;
+  error = load_error(ball, "physics: {overlap_tolerance_m: tiny}\n");
+  EXPECT_NE(error.find("physics.overlap_tolerance_m"), std::string::npos) << error;
+}
+
+TEST(SceneConfig, ContactGapAndOverlapToleranceAreReadWhenGiven) {
+  EXPECT_FALSE(load_scene(kConfigs + "scenes/drop100.yaml").contact_gap_m);  // the world's defaults
+  const std::string path = ::testing::TempDir() + "gap_scene.yaml";
+  std::ofstream(path) << "name: gap\nphysics: {contact_gap_m: 1.0e-5, overlap_tolerance_m: 2.0e-5}\nobjects:\n"
+                         "  - {id: floor, role: real, motion: static, collision: {shape: plane}}\n";
+  const SceneConfig scene = load_scene(path);
+  ASSERT_TRUE(scene.contact_gap_m && scene.overlap_tolerance_m);
+  EXPECT_DOUBLE_EQ(*scene.contact_gap_m, 1e-5);
+  EXPECT_DOUBLE_EQ(*scene.overlap_tolerance_m, 2e-5);
+}
+
 TEST(SceneConfigFile, MissingAndMalformedFiles) {
   EXPECT_THROW(load_scene("/no/such/scene.yaml"), ConfigError);
   const std::string path = ::testing::TempDir() + "malformed.yaml";

@@ -29,14 +29,13 @@
 
 namespace arphys::dyn_bench {
 
-std::unique_ptr<Engine> make_arphys_engine(bool iterative);
+std::unique_ptr<Engine> make_arphys_engine(const std::string& variant);  // arphys, arphys-iterative, arphys-10um
 std::unique_ptr<Engine> make_bullet_engine();
 std::unique_ptr<Engine> make_ode_engine(bool quick);
 std::unique_ptr<Engine> make_mujoco_engine(const std::string& solver);
 
 std::unique_ptr<Engine> make_engine(const std::string& v) {
-  if (v == "arphys") return make_arphys_engine(false);
-  if (v == "arphys-iterative") return make_arphys_engine(true);
+  if (v.rfind("arphys", 0) == 0) return make_arphys_engine(v);
   if (v == "bullet") return make_bullet_engine();
   if (v == "ode-step") return make_ode_engine(false);
   if (v == "ode-quick") return make_ode_engine(true);
@@ -45,7 +44,7 @@ std::unique_ptr<Engine> make_engine(const std::string& v) {
 }
 
 std::vector<std::string> all_engines() {
-  return {"arphys", "arphys-iterative", "bullet", "ode-step", "ode-quick", "mujoco-newton", "mujoco-pgs", "mujoco-cg"};
+  return {"arphys", "arphys-10um", "arphys-iterative", "bullet", "ode-step", "ode-quick", "mujoco-newton", "mujoco-pgs", "mujoco-cg"};
 }
 
 }  // namespace arphys::dyn_bench
@@ -303,7 +302,7 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
         csv.out << e << "," << n << "," << mu << "," << r.median_ms << "," << 1e3 * r.deepest_m << ","
                 << 1e3 * r.final_penetration_m << "," << r.done * 1e-3 << "," << 1e3 * r.overlap_m << "," << r.mean_ms << "\n";
         std::fflush(stdout);
-        if (n >= 1000 && (e == "arphys" || e == "ode-quick")) pile_medians[{e, mu}].push_back(r.median_ms);
+        if (n >= 1000 && (e == "arphys" || e == "arphys-10um" || e == "ode-quick")) pile_medians[{e, mu}].push_back(r.median_ms);
       }
     }
   if (pile_medians.empty() || runs < 2) return;
@@ -315,7 +314,7 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
   // one engine's runs, then the other's).
   for (int run = 1; run < runs; ++run)
     for (double mu : {0.0, 0.5})
-      for (const char* engine : {"arphys", "ode-quick"}) {
+      for (const char* engine : {"arphys", "arphys-10um", "ode-quick"}) {
         const auto key = pile_medians.find({engine, mu});
         if (key == pile_medians.end()) continue;
         const DropRun r = drop_once(engine, 1000, mu, duration, run);
@@ -332,11 +331,13 @@ void run_drop(const std::vector<std::string>& all, const std::vector<int>& count
     std::printf("\n");
     std::fflush(stdout);
   }
-  for (double mu : {0.0, 0.5}) {
-    const auto ours = pile_medians.find({"arphys", mu}), theirs = pile_medians.find({"ode-quick", mu});
-    if (ours == pile_medians.end() || theirs == pile_medians.end()) continue;
-    std::printf("arphys / ode-quick, mu %.1f: %.1fx (mean of the runs' medians)\n", mu, mean(ours->second) / mean(theirs->second));
-  }
+  for (const char* engine : {"arphys", "arphys-10um"})
+    for (double mu : {0.0, 0.5}) {
+      const auto ours = pile_medians.find({engine, mu}), theirs = pile_medians.find({"ode-quick", mu});
+      if (ours == pile_medians.end() || theirs == pile_medians.end()) continue;
+      std::printf("%s / ode-quick, mu %.1f: %.1fx (mean of the runs' medians)\n", engine, mu,
+                  mean(ours->second) / mean(theirs->second));
+    }
 }
 
 // Pairs whose surfaces cross at their current poses: two meshes (bunnies), and a mesh

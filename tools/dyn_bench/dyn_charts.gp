@@ -1,7 +1,7 @@
 # Charts of the dynamics benchmark (called by run_benchmarks.sh with drop and outdir).
 set datafile separator ','
 set terminal pngcairo size 900,600 font ',11'
-engines = "arphys arphys-iterative bullet ode-step ode-quick mujoco-newton mujoco-pgs mujoco-cg"
+engines = "arphys arphys-10um arphys-iterative bullet ode-step ode-quick mujoco-newton mujoco-pgs mujoco-cg"
 rows(e, mu) = sprintf("< awk -F, '$1 == \"%s\" && $3 == %s' '%s'", e, mu, drop)
 
 # 1. Time per step against the number of boxes (frictionless and with friction 0.5).

@@ -1,5 +1,9 @@
 #include "tools/dyn_bench/engine.hpp"
 
+#include <stdexcept>
+#include <string>
+#include <utility>
+
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 
@@ -7,12 +11,14 @@ namespace arphys::dyn_bench {
 
 class ArphysEngine : public Engine {
  public:
-  explicit ArphysEngine(bool iterative) : iterative_(iterative) {}
-  std::string name() const override { return iterative_ ? "arphys-iterative" : "arphys"; }
+  ArphysEngine(std::string name, bool iterative, double gap_and_overlap_m)
+      : name_(std::move(name)), iterative_(iterative), gap_and_overlap_m_(gap_and_overlap_m) {}
+  std::string name() const override { return name_; }
   void build(const BenchScene& scene, double dt_s) override {
     dynamics::WorldOptions options;
     options.gravity_m_s2 = scene.gravity_m_s2;
     if (iterative_) options.solver.kind = dynamics::ContactSolverKind::kProjectedGaussSeidel;
+    if (gap_and_overlap_m_ > 0) options.contact_gap_m = options.overlap_tolerance_m = gap_and_overlap_m_;
     world_ = std::make_unique<dynamics::World>(options);
     dt_ = dt_s;
     for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -52,11 +58,20 @@ class ArphysEngine : public Engine {
   Eigen::Vector3d velocity(int i) const override { return world_->bodies()[i].v_WC_m_s; }
 
  private:
+  std::string name_;
   bool iterative_;
+  double gap_and_overlap_m_;  // 0: the world's defaults
   std::unique_ptr<dynamics::World> world_;
   double dt_ = 0.001;
 };
 
-std::unique_ptr<Engine> make_arphys_engine(bool iterative) { return std::make_unique<ArphysEngine>(iterative); }
+std::unique_ptr<Engine> make_arphys_engine(const std::string& variant) {
+  if (variant == "arphys") return std::make_unique<ArphysEngine>(variant, false, 0.0);
+  if (variant == "arphys-iterative") return std::make_unique<ArphysEngine>(variant, true, 0.0);
+  // The accuracy budget (penetration <= 1e-5 m) spent on speed: a resting gap
+  // and an overlap tolerance of 10 um instead of 1 um.
+  if (variant == "arphys-10um") return std::make_unique<ArphysEngine>(variant, false, 1e-5);
+  throw std::invalid_argument("unknown arphys variant '" + variant + "'");
+}
 
 }  // namespace arphys::dyn_bench

@@ -209,6 +209,19 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
   }
 }
 
+// A scene that allows 10 um of gap and overlap gets them; one that says nothing, the
+// world's defaults (1 um each).
+TEST(SceneWorld, ContactGapAndOverlapToleranceComeFromTheScene) {
+  config::SceneConfig scene = config::load_scene(kScenes + "drop100.yaml");
+  EXPECT_DOUBLE_EQ(world_options_of(scene).contact_gap_m, WorldOptions{}.contact_gap_m);
+  EXPECT_DOUBLE_EQ(world_options_of(scene).overlap_tolerance_m, WorldOptions{}.overlap_tolerance_m);
+  scene.contact_gap_m = 1e-5;
+  scene.overlap_tolerance_m = 2e-5;
+  const World world = build_world(scene);
+  EXPECT_DOUBLE_EQ(world.options().contact_gap_m, 1e-5);
+  EXPECT_DOUBLE_EQ(world.options().overlap_tolerance_m, 2e-5);
+}
+
 TEST(SceneWorld, PlacingABodyAtANonFinitePoseIsRefusedByName) {
   World world;
   RigidBody box;
