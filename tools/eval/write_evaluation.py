@@ -328,7 +328,8 @@ def main():
       "in a live five-minute run on 2 cores its simulator keeps up with the camera at 6-7 ms per step since the "
       "thirteenth session (before, a pile of resting bunnies that never quite rested put it seconds behind; "
       "docs/pipeline.md); 10 ms steps have not been measured live since. The quick run has no N = 1000 drop, where "
-      "we stay within 1 um of overlap but are far slower per step than ODE quickstep (7-9x, docs/dynamics.md, scene 6).\n")
+      "we stay within 1 um of overlap but are far slower per step than ODE quickstep (7-9x; 5-8x allowing 10 um, "
+      "the arphys-10um rows; docs/dynamics.md, scene 6).\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
