@@ -258,9 +258,9 @@ SceneConfig load_scene_checked(const std::string& path_in) {
     for (const auto& [key, field] : {std::pair<const char*, std::optional<double>*>{"contact_gap_m", &scene.contact_gap_m},
                                      {"overlap_tolerance_m", &scene.overlap_tolerance_m}}) {
       if (!ph[key].IsDefined()) continue;
-      const std::string name = std::string("physics.") + key;
-      *field = r.positive(ph[key], name, "a positive length in metres, below 1e-4");
-      if (**field >= 1e-4) r.fail(ph[key], name, "got " + ph[key].Scalar() + ", expected a positive length below 1e-4 m");
+      const std::string name = std::string("physics.") + key, expected = "a positive length below 1e-4 m";
+      *field = r.positive(ph[key], name, expected);
+      if (**field >= 1e-4) r.fail(ph[key], name, "got " + ph[key].Scalar() + ", expected " + expected);
     }
     if (ph["solver"].IsDefined()) {
       scene.solver = r.string(ph["solver"], "physics.solver");
