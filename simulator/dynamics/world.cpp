@@ -136,9 +136,9 @@ int World::add_body(RigidBody body) {
 }
 
 void World::place_body(int index, const geometry::Pose& X_WB) {
-  RigidBody& placed = bodies_.at(index);
-  if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + placed.id + "': non-finite pose");
-  placed.X_WB = X_WB;
+  RigidBody& body = bodies_.at(index);
+  if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
+  body.X_WB = X_WB;
   placed_since_step_.at(index) = 1;
 }
 
@@ -282,7 +282,13 @@ std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBo
         // lifting it. (Pushed so, bunnies that a stepped pile leaves a few micrometres
         // inside the table or the box crossed each other ten times as often.)
         Eigen::Vector3d where = (ta[0] + ta[1] + ta[2] + tb[0] + tb[1] + tb[2]) / 6.0;
-        if (placed) where = !a.is_dynamic() ? b.com_W() : !b.is_dynamic() ? a.com_W() : Eigen::Vector3d(0.5 * (a.com_W() + b.com_W()));
+        if (placed && !a.is_dynamic()) {
+          where = b.com_W();
+        } else if (placed && !b.is_dynamic()) {
+          where = a.com_W();
+        } else if (placed) {
+          where = 0.5 * (a.com_W() + b.com_W());
+        }
         return collision::ManifoldPoint{where, where, sign * direction, -shift_m, *crossing};
       }
   return std::nullopt;

@@ -21,6 +21,29 @@ double lowest_z(const RigidBody& body) {
   return lowest;
 }
 
+// Application 2's table and box, without bunnies.
+World table_and_box() {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  for (auto& o : scene.objects) o.spawn_at_start.clear();
+  World world = build_world(scene);
+  world.remove_body(world.find("bunny"));
+  return world;
+}
+
+// Adds an 8 cm, 0.2 kg cube as a triangle mesh, tilted 2.3 deg about x (one bottom edge
+// lowest), its lowest point at lowest_z_m over the table top (negative: inside the table).
+int add_tilted_mesh_cube(World& world, double lowest_z_m) {
+  RigidBody cube;
+  cube.id = "mesh-cube";
+  const Eigen::Vector3d size_m(0.08, 0.08, 0.08);
+  cube.shape = collision::Shape::mesh(std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(size_m)));
+  cube.mass = geometry::with_mass(geometry::box_mass_properties(size_m, 1000), 0.2);
+  cube.X_WB = geometry::Pose::Identity();
+  cube.X_WB.linear() = Eigen::Quaterniond(0.9998, 0.02, 0, 0).normalized().toRotationMatrix();
+  cube.X_WB.translation() = Eigen::Vector3d(-0.2, -0.2, lowest_z_m - lowest_z(cube));
+  return world.add_body(std::move(cube));
+}
+
 // The scanned bunny has holes in its base. Dropped upright from a few millimetres it
 // used to find no resting contact on its open mesh's vertices, sink in and fall through
 // the table (from 2, 5 and 10 mm; not from 1 or 3). Fixed in the contact manifold
@@ -51,18 +74,8 @@ TEST(SceneWorld, UprightBunnyDroppedFromLowHeightsRestsOnTheTable) {
 // must hold it as well: never crossing, gliding on the table. (A cube as a triangle mesh,
 // frictionless, 0.5 mm a step.)
 TEST(SceneWorld, AMeshSlidingSlowlyOnTheTableIsCheckedAtTheEndOfItsMotionNotSwept) {
-  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
-  for (auto& o : scene.objects) o.spawn_at_start.clear();
-  World world = build_world(scene);
-  world.remove_body(world.find("bunny"));
-  RigidBody cube;
-  cube.id = "mesh-cube";
-  cube.shape = collision::Shape::mesh(std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh({0.08, 0.08, 0.08})));
-  cube.mass = geometry::with_mass(geometry::box_mass_properties({0.08, 0.08, 0.08}, 1000), 0.2);
-  cube.X_WB = geometry::Pose::Identity();
-  cube.X_WB.linear() = Eigen::Quaterniond(0.9998, 0.02, 0, 0).normalized().toRotationMatrix();  // tilted 2.3 deg
-  cube.X_WB.translation() = Eigen::Vector3d(-0.2, -0.2, 0.0005 - lowest_z(cube));                // a corner 0.5 mm up
-  const int index = world.add_body(std::move(cube));
+  World world = table_and_box();
+  const int index = add_tilted_mesh_cube(world, 0.0005);  // an edge 0.5 mm up
   for (int k = 0; k < 100; ++k) world.step(0.01);  // lands and settles
   const RigidBody& body = world.bodies()[index];
   const RigidBody& table = world.bodies()[world.find("table")];
@@ -176,18 +189,8 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
 // speed, no faster, and rests on the table.
 TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
   for (const double depth_m : {0.5e-3, 1.6e-3, 3e-3, 6e-3, 8e-3}) {
-    config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
-    for (auto& o : scene.objects) o.spawn_at_start.clear();
-    World world = build_world(scene);
-    world.remove_body(world.find("bunny"));
-    RigidBody cube;
-    cube.id = "mesh-cube";
-    const Eigen::Vector3d size_m(0.08, 0.08, 0.08);
-    cube.shape = collision::Shape::mesh(std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(size_m)));
-    cube.mass = geometry::with_mass(geometry::box_mass_properties(size_m, 1000), 0.2);
-    cube.X_WB = geometry::rotation_pose(Eigen::Vector3d::UnitX(), 0.04);  // one bottom edge lowest
-    cube.X_WB.translation() = Eigen::Vector3d(-0.2, -0.2, -depth_m - lowest_z(cube));
-    const int index = world.add_body(std::move(cube));
+    World world = table_and_box();
+    const int index = add_tilted_mesh_cube(world, -depth_m);
     double fastest_m_s = 0;  // while it is being pushed out (out, it tips flat, as it would)
     for (int k = 0; k < 100; ++k) {
       const bool inside = lowest_z(world.bodies()[index]) < 0;
