@@ -439,7 +439,7 @@ bool same_row(const ContactRow& a, const ContactRow& b) {
   return a.body_a == b.body_a && a.body_b == b.body_b && a.point_W == b.point_W && a.normal_W == b.normal_W &&
          a.min_normal_velocity_m_s == b.min_normal_velocity_m_s &&
          a.known_normal_velocity_m_s == b.known_normal_velocity_m_s && a.friction == b.friction &&
-         a.pushed_before == b.pushed_before;
+         a.pushed_before == b.pushed_before && a.warm_impulse_W_N_s == b.warm_impulse_W_N_s;
 }
 
 // The same rows (bodies as keys) and the same starting velocities: the same answer.
@@ -459,6 +459,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
                                   SolvedIslands* memo, const std::vector<int>* body_keys) {
   ContactSolveResult result;
   result.normal_impulses_N_s.assign(rows.size(), 0.0);
+  result.impulses_W_N_s.assign(rows.size(), Eigen::Vector3d::Zero());
   if (memo && (!body_keys || body_keys->size() != velocities.size()))
     throw std::invalid_argument("solve_contacts: a memo needs one body key per velocity");
   std::vector<int> island_stamp(velocities.size(), -1);  // the island a body was last listed for
@@ -507,7 +508,10 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           }
       if (same) {
         ++memo->reused;
-        for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = same->impulses[k];
+        for (int k = 0; k < n; ++k) {
+          result.normal_impulses_N_s[island[k]] = same->impulses[k];
+          result.impulses_W_N_s[island[k]] = same->impulses_W[k];
+        }
         for (std::size_t b = 0; b < members.size(); ++b) velocities[members[b]] = same->after[b];
         result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, same->summary.kkt_residual_m_s);
         result.infeasible |= same->summary.infeasible;
@@ -613,6 +617,24 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
                                      options.sweep_tolerance_m_s, true, friction);
       }
     } else {
+      // Warm start: the sweeps begin from last step's impulses, applied, instead of from
+      // nothing. A resting pile's impulses change little from step to step, and from zero
+      // 50 sweeps left a 1000-box pile's rows up to 0.04 m/s from their bounds.
+      friction.f1.assign(n, 0.0);
+      friction.f2.assign(n, 0.0);
+      for (int k = 0; k < n; ++k) {
+        const ContactRow& row = rows[island[k]];
+        lambda[k] = std::max(0.0, row.warm_impulse_W_N_s.dot(row.normal_W));
+        add_impulse(jacobian(row, row.normal_W, inertia), row, inertia, lambda[k], velocities);
+        if (row.friction <= 0) continue;
+        Eigen::Vector3d t1, t2;
+        tangents(row.normal_W, t1, t2);
+        const double bound = row.friction * lambda[k];
+        friction.f1[k] = std::clamp(row.warm_impulse_W_N_s.dot(t1), -bound, bound);
+        friction.f2[k] = std::clamp(row.warm_impulse_W_N_s.dot(t2), -bound, bound);
+        add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
+        add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
+      }
       result.iterations +=
           projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
                                  options.sweep_tolerance_m_s, false, friction);
@@ -624,13 +646,26 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, std::max(-w, lambda[k] > 0 ? std::abs(w) : 0.0));
       }
     }
-    for (int k = 0; k < n; ++k) result.normal_impulses_N_s[island[k]] = lambda[k];
+    for (int k = 0; k < n; ++k) {
+      const ContactRow& row = rows[island[k]];
+      result.normal_impulses_N_s[island[k]] = lambda[k];
+      Eigen::Vector3d impulse = lambda[k] * row.normal_W;
+      if (row.friction > 0 && friction.f1.size() == static_cast<std::size_t>(n)) {
+        Eigen::Vector3d t1, t2;
+        tangents(row.normal_W, t1, t2);
+        impulse += friction.f1[k] * t1 + friction.f2[k] * t2;
+      }
+      result.impulses_W_N_s[island[k]] = impulse;
+    }
     const double island_residual = result.kkt_residual_m_s;
     const bool island_infeasible = result.infeasible;
     result.kkt_residual_m_s = std::max(residual_before, island_residual);
     result.infeasible = infeasible_before || island_infeasible;
     if (remember) {
-      for (int k = 0; k < n; ++k) key.impulses.push_back(lambda[k]);
+      for (int k = 0; k < n; ++k) {
+        key.impulses.push_back(lambda[k]);
+        key.impulses_W.push_back(result.impulses_W_N_s[island[k]]);
+      }
       for (const int body : members) key.after.push_back(velocities[body]);
       key.summary.kkt_residual_m_s = island_residual;
       key.summary.infeasible = island_infeasible;

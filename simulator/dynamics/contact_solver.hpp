@@ -39,6 +39,10 @@ struct ContactRow {
   // boxes falling together are not violated by the unconstrained motion, and were
   // otherwise found one per iteration: about fifty per solve in a 1000-box pile).
   bool pushed_before = false;
+  // The same contact's impulse (normal and friction, world frame) in the caller's previous
+  // step, scaled to this solve: where the iterative solver starts from (warm start). The
+  // exact solver does not need it: its answer does not depend on where it starts.
+  Eigen::Vector3d warm_impulse_W_N_s = Eigen::Vector3d::Zero();
 };
 
 enum class ContactSolverKind { kExact, kProjectedGaussSeidel };
@@ -60,6 +64,7 @@ struct ContactSolverOptions {
 
 struct ContactSolveResult {
   std::vector<double> normal_impulses_N_s;  // per row
+  std::vector<Eigen::Vector3d> impulses_W_N_s;  // per row: normal and friction, world frame
   // Largest violation of the KKT conditions: a constraint broken, or a pushing contact
   // that is not exactly at its bound, in m/s. 0 for an exact solve up to rounding.
   double kkt_residual_m_s = 0;
@@ -82,6 +87,7 @@ struct SolvedIslands {
     std::vector<int> bodies;       // keys, in order of first appearance in rows
     std::vector<BodyVelocity> before, after;
     std::vector<double> impulses;
+    std::vector<Eigen::Vector3d> impulses_W;
     ContactSolveResult summary;  // its kkt_residual_m_s, infeasible and iterative_islands only
   };
   std::vector<Island> islands;

@@ -147,6 +147,7 @@ void World::remove_body(int index) {
   radius_m_.erase(radius_m_.begin() + index);
   contacts_.clear();
   pushed_before_.clear();
+  warm_forces_.clear();
   nearby_.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
   placed_since_step_.assign(bodies_.size(), 1);
@@ -228,6 +229,14 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
       const Eigen::Vector3d point_W = row_point(feature);
       for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
         contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
+      const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
+                                         [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
+      double nearest_m = tolerance;
+      for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
+        if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {
+          nearest_m = d;
+          contact.warm_force_W_N = it->force_W_N;
+        }
       contacts.push_back(contact);
     }
   }
@@ -317,6 +326,7 @@ World::SolveSetup World::prepare_solve(double h, double force_h, const std::vect
                                       const std::vector<Contact>& resting) const {
   SolveSetup setup;
   setup.h = h;
+  setup.warm_h_s = force_h > 0 ? h : 0.0;
   setup.unknown_of_slot.assign(participants.size(), -1);
   for (std::size_t s = 0; s < participants.size(); ++s) {
     const RigidBody& body = bodies_[participants[s]];
@@ -370,6 +380,7 @@ ContactRow World::row_of(const Contact& c, const SolveSetup& setup, const std::v
   row.min_normal_velocity_m_s = std::max(row.min_normal_velocity_m_s, c.min_normal_velocity_m_s);
   row.friction = combined_friction(a, b);
   row.pushed_before = c.pushed_before;
+  row.warm_impulse_W_N_s = setup.warm_h_s * c.warm_force_W_N;
   return row;
 }
 
@@ -449,7 +460,10 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
   if (infeasible) *infeasible = result.infeasible;
   report.iterative_islands += result.iterative_islands;
   report.solver_iterations += result.iterations;
-  for (std::size_t k = 0; k < solved.size(); ++k) solved[k].impulse_N_s = result.normal_impulses_N_s[k];
+  for (std::size_t k = 0; k < solved.size(); ++k) {
+    solved[k].impulse_N_s = result.normal_impulses_N_s[k];
+    solved[k].impulse_W_N_s = result.impulses_W_N_s[k];
+  }
   std::vector<BodyVelocity> by_slot(participants.size());
   for (std::size_t k = 0; k < u.size(); ++k) by_slot[slot_of_unknown[k]] = u[k];
   return by_slot;
@@ -1104,6 +1118,13 @@ StepReport World::step(double dt_s) {
                                 row_point(c.feature)});
   std::sort(pushed_before_.begin(), pushed_before_.end(),
             [](const PushedPoint& x, const PushedPoint& y) { return x.bodies < y.bodies; });
+  warm_forces_.clear();
+  for (const Contact& c : solved)
+    if (c.impulse_N_s > 0)
+      warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
+                              c.impulse_W_N_s / dt_s});
+  std::sort(warm_forces_.begin(), warm_forces_.end(),
+            [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);

@@ -94,6 +94,10 @@ struct Contact {
   // The pair pushed within contact_tolerance_m of this point in the previous step's last
   // solve (a warm-start hint for the solver, see ContactRow::pushed_before).
   bool pushed_before = false;
+  // The force (normal and friction, world frame) within contact_tolerance_m of this point in
+  // the previous step's first solve: the iterative solver's warm start (ContactRow).
+  Eigen::Vector3d warm_force_W_N = Eigen::Vector3d::Zero();
+  Eigen::Vector3d impulse_W_N_s = Eigen::Vector3d::Zero();  // the last solve's normal and friction impulse, world frame
 };
 
 struct StepReport {
@@ -203,6 +207,9 @@ class World {
   // for them (rebuilt every round, the rows were a twentieth of a 1000-box pile's step).
   struct SolveSetup {
     double h = 0;
+    // Rows start their iterative solve from their warm forces times this: h in a solve that
+    // applies the step's forces, as the step's first solve did; 0 after a cut.
+    double warm_h_s = 0;
     std::vector<int> unknown_of_slot, slot_of_unknown, body_of_unknown;
     std::vector<BodyInertia> inertia;
     std::vector<BodyVelocity> u_unconstrained;
@@ -288,6 +295,13 @@ class World {
     Eigen::Vector3d point_W;
   };
   std::vector<PushedPoint> pushed_before_;
+  // The forces of the previous step's first solve (every group solved over the whole step,
+  // with gravity), sorted by pair: where an iterative solve starts from.
+  struct PreviousForce {
+    std::pair<int, int> bodies;
+    Eigen::Vector3d point_W, force_W_N;
+  };
+  std::vector<PreviousForce> warm_forces_;
   // Mesh pairs that gather_contacts found not crossing, at the poses it found them at:
   // the CCD of their motions from those poses skips its start test (the same test at
   // the same poses was a twelfth of the 100-bunny scene). A memo, so mutable; cleared

@@ -218,6 +218,59 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
   EXPECT_LT(hinted_friction.iterations, cold_friction.iterations);
 }
 
+// The iterative solver starts from the rows' warm impulses: given the exact answer it
+// returns it at once; from nothing, a column of ten boxes takes more sweeps than it is
+// allowed. The impulses come back whole (normal and friction) for the next warm start.
+TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
+  const int boxes = 10;
+  std::vector<BodyInertia> inertia;
+  std::vector<BodyVelocity> u(boxes);
+  std::vector<ContactRow> rows;
+  for (int k = 0; k < boxes; ++k) {
+    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
+    u[k].v_WC_m_s = {0.003, 0, -9.81e-3};  // sliding along x, with a 1 ms step of gravity
+    for (const double dy : {-0.1, 0.1})
+      for (const double dx : {-0.1, 0.1}) {
+        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
+        row.body_a = k - 1;  // the box below, or the ground
+        rows.push_back(row);
+      }
+  }
+  rows[0].friction = 0.5;  // one frictional corner on the ground: the bottom box slows
+  std::vector<BodyVelocity> exact_u = u;
+  const ContactSolveResult exact = solve_contacts(inertia, exact_u, rows, {});
+  ASSERT_LE(exact.kkt_residual_m_s, 1e-12);
+
+  ContactSolverOptions iterative;
+  iterative.kind = ContactSolverKind::kProjectedGaussSeidel;
+  std::vector<BodyVelocity> cold_u = u;
+  const ContactSolveResult cold = solve_contacts(inertia, cold_u, rows, iterative);
+  std::vector<ContactRow> warm_rows = rows;
+  for (std::size_t r = 0; r < rows.size(); ++r) warm_rows[r].warm_impulse_W_N_s = cold.impulses_W_N_s[r];
+  std::vector<BodyVelocity> warm_u = u;
+  const ContactSolveResult warm = solve_contacts(inertia, warm_u, warm_rows, iterative);
+  std::printf("column of ten, iterative: residual %.2g m/s in %d sweeps cold, %.2g m/s in %d sweeps warm\n",
+              cold.kkt_residual_m_s, cold.iterations, warm.kkt_residual_m_s, warm.iterations);
+  EXPECT_EQ(cold.iterations, iterative.iterations);  // ran out of sweeps
+  EXPECT_GT(cold.kkt_residual_m_s, 1e-5);
+  EXPECT_LT(warm.kkt_residual_m_s, 0.5 * cold.kkt_residual_m_s);  // (a second solve goes on from the first)
+  // Warm-started from the exact answer (frictionless: the exact solve's friction is a
+  // staggered one), there is nothing left to sweep.
+  std::vector<ContactRow> settled_rows = rows;
+  settled_rows[0].friction = 0;
+  std::vector<BodyVelocity> frictionless_u = u, settled_u = u;
+  const ContactSolveResult frictionless = solve_contacts(inertia, frictionless_u, settled_rows, {});
+  for (std::size_t r = 0; r < rows.size(); ++r) settled_rows[r].warm_impulse_W_N_s = frictionless.impulses_W_N_s[r];
+  const ContactSolveResult settled = solve_contacts(inertia, settled_u, settled_rows, iterative);
+  EXPECT_LE(settled.iterations, 1);
+  EXPECT_LE(settled.kkt_residual_m_s, 1e-9);
+  for (int k = 0; k < boxes; ++k) EXPECT_LE((settled_u[k].v_WC_m_s - frictionless_u[k].v_WC_m_s).norm(), 1e-9);
+  // The impulses reported: the normal along the normal, the friction against the slide.
+  EXPECT_NEAR(exact.impulses_W_N_s[0].dot(rows[0].normal_W), exact.normal_impulses_N_s[0], 1e-15);
+  EXPECT_LT(exact.impulses_W_N_s[0].x(), 0);
+  EXPECT_LE(-exact.impulses_W_N_s[0].x(), 0.5 * exact.normal_impulses_N_s[0] * (1 + 1e-12));
+}
+
 // Friction sweeps stop once no row's velocity moves more than sweep_tolerance_m_s in a
 // sweep: fewer sweeps, and the answer within a few times that of sweeping to the end.
 TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
