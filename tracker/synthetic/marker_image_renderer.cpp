@@ -46,62 +46,63 @@ std::array<Eigen::Vector2d, 4> true_corners_px(const CameraModel& camera, const 
   return uv;
 }
 
-cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacement>& markers,
-                       const cv::Mat& background, const ImageEffects& effects, int supersample) {
-  const int S = std::max(1, supersample);
+namespace {
+
+// The supersampled canvas a frame is drawn on, from its background.
+cv::Mat start_canvas(const CameraModel& camera, const cv::Mat& background, int S) {
   cv::Mat base = background.empty() ? cv::Mat(camera.height_px, camera.width_px, CV_8UC1, cv::Scalar(128)) : background;
   CV_Assert(base.type() == CV_8UC1 && base.cols == camera.width_px && base.rows == camera.height_px);
   cv::Mat canvas;
   cv::resize(base, canvas, cv::Size(), S, S, cv::INTER_NEAREST);
+  return canvas;
+}
 
+// Maps `texture` onto the canvas by the homography from texture pixels to the plane
+// (plane_from_texture: texture pixel (u, v, 1) -> plane (x, y, 1), in metres) and from the
+// plane (z = 0 of frame M) to the image.
+void draw_texture(cv::Mat& canvas, int S, const CameraModel& camera, const cv::Mat& texture,
+                  const cv::Matx33d& plane_from_texture, const geometry::Pose& X_CM) {
   // Canvas pixel centres sit at S * (p + 0.5) - 0.5 for image pixel coordinate p.
   const cv::Matx33d to_canvas(S, 0, 0.5 * S - 0.5, 0, S, 0.5 * S - 0.5, 0, 0, 1);
-  for (const auto& m : markers) {
-    int black_cells = 0;
-    cv::Mat cells = marker_cells_image(m.family, m.id, &black_cells);
-    const int N = cells.cols;
-    const double cell_m = m.size_m / black_cells;
-    bool in_front = true;
-    double z_min = 1e9;
-    for (const auto& c : marker_corners_M(m.size_m * N / black_cells)) {
-      const double z = (m.X_CM * c).z();
-      in_front = in_front && z > 1e-3;
-      z_min = std::min(z_min, z);
-    }
-    // Behind the camera, or seen from its back (a face of a box turned away): not drawn.
-    const bool facing = m.X_CM.linear().col(2).dot(m.X_CM.translation()) < 0;
-    if (!in_front || !facing) continue;
-    // Texture resolution near the canvas's, so bilinear sampling neither aliases nor blurs.
-    const double cell_canvas_px = S * camera.K(0, 0) * cell_m / z_min;
-    const int k = std::clamp(static_cast<int>(std::lround(cell_canvas_px)), 1, 64);
-    cv::Mat texture;
-    cv::resize(cells, texture, cv::Size(), k, k, cv::INTER_NEAREST);
-    texture.convertTo(texture, CV_8U, (effects.white - effects.black) / 255.0, effects.black);
-    // Texture pixel (u, v) -> marker plane (x, y, 1): pixel u spans [u - 0.5, u + 0.5] of
-    // the continuous texture, x increases right and y up, the centre is the origin.
-    const cv::Matx33d plane(cell_m / k, 0, (0.5 / k - N / 2.0) * cell_m, 0, -cell_m / k, (N / 2.0 - 0.5 / k) * cell_m, 0,
-                            0, 1);
-    const Eigen::Matrix3d R = m.X_CM.linear();
-    const Eigen::Vector3d t = m.X_CM.translation();
-    const cv::Matx33d Rt(R(0, 0), R(0, 1), t.x(), R(1, 0), R(1, 1), t.y(), R(2, 0), R(2, 1), t.z());
-    const cv::Matx33d H = to_canvas * camera.K * Rt * plane;
-    // Warp only into the marker's bounding box: the canvas is 16x the frame's pixels.
-    std::vector<cv::Point2d> texture_corners{{-0.5, -0.5}, {texture.cols - 0.5, -0.5},
-                                             {texture.cols - 0.5, texture.rows - 0.5}, {-0.5, texture.rows - 0.5}};
-    std::vector<cv::Point2d> canvas_corners;
-    cv::perspectiveTransform(texture_corners, canvas_corners, cv::Mat(H));
-    cv::Rect2d bounds = cv::boundingRect(std::vector<cv::Point2f>(canvas_corners.begin(), canvas_corners.end()));
-    const cv::Rect roi = cv::Rect(static_cast<int>(std::floor(bounds.x)) - 2, static_cast<int>(std::floor(bounds.y)) - 2,
-                                  static_cast<int>(std::ceil(bounds.width)) + 5, static_cast<int>(std::ceil(bounds.height)) + 5) &
-                         cv::Rect(0, 0, canvas.cols, canvas.rows);
-    if (roi.area() <= 0) continue;
-    const cv::Matx33d shift(1, 0, -roi.x, 0, 1, -roi.y, 0, 0, 1);
-    cv::Mat target = canvas(roi);
-    cv::warpPerspective(texture, target, cv::Mat(shift * H), roi.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
-  }
-  cv::Mat image;
-  cv::resize(canvas, image, base.size(), 0, 0, cv::INTER_AREA);
+  const Eigen::Matrix3d R = X_CM.linear();
+  const Eigen::Vector3d t = X_CM.translation();
+  const cv::Matx33d Rt(R(0, 0), R(0, 1), t.x(), R(1, 0), R(1, 1), t.y(), R(2, 0), R(2, 1), t.z());
+  const cv::Matx33d H = to_canvas * camera.K * Rt * plane_from_texture;
+  // Warp only into the texture's bounding box: the canvas is 16x the frame's pixels.
+  std::vector<cv::Point2d> texture_corners{{-0.5, -0.5}, {texture.cols - 0.5, -0.5},
+                                           {texture.cols - 0.5, texture.rows - 0.5}, {-0.5, texture.rows - 0.5}};
+  std::vector<cv::Point2d> canvas_corners;
+  cv::perspectiveTransform(texture_corners, canvas_corners, cv::Mat(H));
+  cv::Rect2d bounds = cv::boundingRect(std::vector<cv::Point2f>(canvas_corners.begin(), canvas_corners.end()));
+  const cv::Rect roi = cv::Rect(static_cast<int>(std::floor(bounds.x)) - 2, static_cast<int>(std::floor(bounds.y)) - 2,
+                                static_cast<int>(std::ceil(bounds.width)) + 5, static_cast<int>(std::ceil(bounds.height)) + 5) &
+                       cv::Rect(0, 0, canvas.cols, canvas.rows);
+  if (roi.area() <= 0) return;
+  const cv::Matx33d shift(1, 0, -roi.x, 0, 1, -roi.y, 0, 0, 1);
+  cv::Mat target = canvas(roi);
+  cv::warpPerspective(texture, target, cv::Mat(shift * H), roi.size(), cv::INTER_LINEAR, cv::BORDER_TRANSPARENT);
+}
 
+// Whether a plane patch with these corners (frame M) is in front of the camera and faces
+// it; and its nearest depth.
+bool visible(const geometry::Pose& X_CM, const std::vector<Eigen::Vector3d>& corners_M, double* z_min) {
+  bool in_front = true;
+  *z_min = 1e9;
+  for (const auto& c : corners_M) {
+    const double z = (X_CM * c).z();
+    in_front = in_front && z > 1e-3;
+    *z_min = std::min(*z_min, z);
+  }
+  // Behind the camera, or seen from its back (a face of a box turned away): not drawn.
+  const bool facing = X_CM.linear().col(2).dot(X_CM.translation()) < 0;
+  return in_front && facing;
+}
+
+// The canvas box-filtered down to the frame (each pixel's area integrated, as a sensor
+// does), then blurred and noised.
+cv::Mat finish_frame(const cv::Mat& canvas, const CameraModel& camera, const ImageEffects& effects) {
+  cv::Mat image;
+  cv::resize(canvas, image, cv::Size(camera.width_px, camera.height_px), 0, 0, cv::INTER_AREA);
   if (effects.blur_length_px > 0.5) {
     const int size = static_cast<int>(std::ceil(effects.blur_length_px)) | 1;
     cv::Mat kernel = cv::Mat::zeros(size, size, CV_32F);
@@ -122,6 +123,55 @@ cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacem
     sum.convertTo(image, CV_8U);  // rounds and saturates
   }
   return image;
+}
+
+}  // namespace
+
+cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacement>& markers,
+                       const cv::Mat& background, const ImageEffects& effects, int supersample) {
+  const int S = std::max(1, supersample);
+  cv::Mat canvas = start_canvas(camera, background, S);
+  for (const auto& m : markers) {
+    int black_cells = 0;
+    cv::Mat cells = marker_cells_image(m.family, m.id, &black_cells);
+    const int N = cells.cols;
+    const double cell_m = m.size_m / black_cells;
+    double z_min = 0;
+    const auto outline = marker_corners_M(m.size_m * N / black_cells);
+    if (!visible(m.X_CM, std::vector<Eigen::Vector3d>(outline.begin(), outline.end()), &z_min)) continue;
+    // Texture resolution near the canvas's, so bilinear sampling neither aliases nor blurs.
+    const double cell_canvas_px = S * camera.K(0, 0) * cell_m / z_min;
+    const int k = std::clamp(static_cast<int>(std::lround(cell_canvas_px)), 1, 64);
+    cv::Mat texture;
+    cv::resize(cells, texture, cv::Size(), k, k, cv::INTER_NEAREST);
+    texture.convertTo(texture, CV_8U, (effects.white - effects.black) / 255.0, effects.black);
+    // Texture pixel (u, v) -> marker plane (x, y, 1): pixel u spans [u - 0.5, u + 0.5] of
+    // the continuous texture, x increases right and y up, the centre is the origin.
+    const cv::Matx33d plane(cell_m / k, 0, (0.5 / k - N / 2.0) * cell_m, 0, -cell_m / k, (N / 2.0 - 0.5 / k) * cell_m, 0,
+                            0, 1);
+    draw_texture(canvas, S, camera, texture, plane, m.X_CM);
+  }
+  return finish_frame(canvas, camera, effects);
+}
+
+cv::Mat render_planar_image(const CameraModel& camera, const cv::Mat& picture, double width_m,
+                            const geometry::Pose& X_CM, const cv::Mat& background, const ImageEffects& effects,
+                            int supersample) {
+  CV_Assert(picture.type() == CV_8UC1 && !picture.empty() && width_m > 0);
+  const int S = std::max(1, supersample);
+  cv::Mat canvas = start_canvas(camera, background, S);
+  const double pixel_m = width_m / picture.cols;
+  const double half_w = 0.5 * width_m, half_h = 0.5 * pixel_m * picture.rows;
+  double z_min = 0;
+  if (visible(X_CM, {{-half_w, -half_h, 0}, {half_w, -half_h, 0}, {half_w, half_h, 0}, {-half_w, half_h, 0}}, &z_min)) {
+    // Picture pixel (u, v) -> plane: x right, y up, the picture's centre at the origin.
+    const cv::Matx33d plane(pixel_m, 0, (0.5 - 0.5 * picture.cols) * pixel_m, 0, -pixel_m,
+                            (0.5 * picture.rows - 0.5) * pixel_m, 0, 0, 1);
+    cv::Mat texture;
+    picture.convertTo(texture, CV_8U, (effects.white - effects.black) / 255.0, effects.black);
+    draw_texture(canvas, S, camera, texture, plane, X_CM);
+  }
+  return finish_frame(canvas, camera, effects);
 }
 
 geometry::Pose marker_pose_at(const CameraModel& camera, double u_px, double v_px, double distance_m,

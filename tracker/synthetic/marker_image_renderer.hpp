@@ -43,6 +43,13 @@ cv::Mat clutter_background(int width_px, int height_px, uint32_t seed);
 cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacement>& markers,
                        const cv::Mat& background, const ImageEffects& effects = {}, int supersample = 4);
 
+// Renders an 8-bit grey picture (a printed calibration board, say) lying in the plane
+// z = 0 of frame M, centred on M's origin, x to its right and y up, `width_m` wide
+// (its height by its aspect), the same way as the markers: pinhole, area-integrated.
+cv::Mat render_planar_image(const CameraModel& camera, const cv::Mat& picture, double width_m,
+                            const geometry::Pose& X_CM, const cv::Mat& background = {},
+                            const ImageEffects& effects = {}, int supersample = 4);
+
 // The true corners of a placed marker in DetectedMarker's order and pixel convention.
 std::array<Eigen::Vector2d, 4> true_corners_px(const CameraModel& camera, const MarkerPlacement& marker);
 
