@@ -26,7 +26,7 @@ CameraModel true_camera() {
   return camera;
 }
 
-CharucoBoardSpec board_spec() { return {}; }  // 7x5 squares of 4 cm, 3 cm markers, DICT_5X5_100
+CharucoBoardSpec board_spec() { return {}; }  // 7x5 squares of 3 cm, 2.2 cm markers, DICT_5X5_100
 
 constexpr int kSquarePx = 60, kMarginPx = 30;  // the board as drawn for rendering
 

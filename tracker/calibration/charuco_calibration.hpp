@@ -17,8 +17,8 @@ namespace arphys::tracking {
 struct CharucoBoardSpec {
   int squares_x = 7;  // squares along the board's width
   int squares_y = 5;  // and along its height
-  double square_size_m = 0.04;  // side of a chessboard square, as printed
-  double marker_size_m = 0.03;  // side of a marker inside a white square
+  double square_size_m = 0.03;  // side of a chessboard square, as printed (7x5 of 3 cm fit A4 or Letter)
+  double marker_size_m = 0.022;  // side of a marker inside a white square
   std::string dictionary = "DICT_5X5_100";  // OpenCV ArUco dictionary name
 };
 
