@@ -49,13 +49,15 @@ struct Picture {
 };
 
 // Pictures of the board as a person takes them for a calibration: at 0.45-0.7 m, across
-// the image, tilted 15-45 degrees about varied axes.
-std::vector<Picture> board_pictures(const CameraModel& camera, int count) {
+// the image (its centres over the middle 240 x 160 px, times `spread`), tilted 15-45
+// degrees about varied axes.
+std::vector<Picture> board_pictures(const CameraModel& camera, int count, double spread = 1.0) {
   const cv::Mat board = draw_charuco_board(board_spec(), kSquarePx, kMarginPx);
   const double width_m = board.cols * board_spec().square_size_m / kSquarePx;
   std::vector<Picture> pictures;
   for (int k = 0; k < count; ++k) {
-    const double u = 200 + 240 * ((k * 37) % 11) / 10.0, v = 160 + 160 * ((k * 53) % 7) / 6.0;
+    const double u = 320 + spread * 120 * (2 * ((k * 37) % 11) / 10.0 - 1);
+    const double v = 240 + spread * 80 * (2 * ((k * 53) % 7) / 6.0 - 1);
     const double distance_m = 0.45 + 0.25 * ((k * 29) % 5) / 4.0;
     const double tilt_rad = (15 + 30 * ((k * 17) % 4) / 3.0) * M_PI / 180;
     const geometry::Pose X_CB = marker_pose_at(camera, u, v, distance_m, tilt_rad, 0.7 * k, 0.3 * std::sin(k));
@@ -150,6 +152,34 @@ TEST(CharucoCalibration, GivesTheCameraBackFromRenderedPictures) {
   EXPECT_NEAR(loaded.cy_px, fit.camera.cy_px, 1e-9);
   EXPECT_EQ(loaded.distortion.size(), 5u);
   std::filesystem::remove(path);
+}
+
+// A webcam's barrel lens: the default model (k1 k2 p1 p2) finds it from pictures that
+// reach towards the image's corners (where the lens shows), and a pinhole fit of the same
+// pictures shows the misfit as its RMS error.
+TEST(CharucoCalibration, FindsABarrelLens) {
+  CameraModel camera = true_camera();
+  camera.distortion = (cv::Mat_<double>(1, 5) << -0.28, 0.09, 0.0005, -0.0003, 0.0);
+  const std::vector<BoardView> views = detect_all(board_pictures(camera, 20, 1.6));
+  ASSERT_GE(views.size(), 16u);
+  const CameraCalibration fit = calibrate_from_views(board_spec(), views, {640, 480});
+  const std::vector<double>& d = fit.camera.distortion;
+  std::printf("barrel lens from %d views: fx %.2f fy %.2f cx %.2f cy %.2f px, k1 %.4f k2 %.4f p1 %.5f p2 %.5f "
+              "(true -0.28 0.09 0.0005 -0.0003), rms %.3f px\n",
+              fit.views, fit.camera.fx_px, fit.camera.fy_px, fit.camera.cx_px, fit.camera.cy_px, d[0], d[1], d[2], d[3],
+              fit.rms_reprojection_px);
+  EXPECT_NEAR(d[0], -0.28, 0.02);
+  EXPECT_NEAR(d[1], 0.09, 0.03);
+  EXPECT_NEAR(d[2], 0.0005, 0.0005);
+  EXPECT_NEAR(d[3], -0.0003, 0.0005);
+  EXPECT_NEAR(fit.camera.fx_px, 610, 0.005 * 610);
+  EXPECT_NEAR(fit.camera.cx_px, 327.25, 1.0);
+  EXPECT_LT(fit.rms_reprojection_px, 0.15);
+  CalibrationOptions pinhole;
+  pinhole.distortion = false;
+  const CameraCalibration misfit = calibrate_from_views(board_spec(), views, {640, 480}, pinhole);
+  std::printf("the same as a pinhole: rms %.3f px\n", misfit.rms_reprojection_px);
+  EXPECT_GT(misfit.rms_reprojection_px, 5 * fit.rms_reprojection_px);
 }
 
 TEST(CharucoCalibration, TooFewViewsAreRefusedByCount) {

@@ -15,8 +15,10 @@ namespace arphys::tracking {
 // Images of markers at known poses, for tests and the tracker benchmark: exact ground
 // truth without a person or a printer. A marker's texture (its cells, from libapriltag
 // or OpenCV) is mapped by the exact plane-to-image homography into a supersampled canvas
-// and box-filtered down, which integrates each pixel's area as a sensor does. Pinhole
-// only: the camera's distortion is ignored.
+// and box-filtered down, which integrates each pixel's area as a sensor does. A camera
+// with distortion coefficients sees the pinhole canvas through its lens (OpenCV's model,
+// the same the pose solvers undo); what a barrel lens sees beyond the pinhole image's
+// edge is filled from that edge, so keep markers off the outermost border.
 
 struct MarkerPlacement {
   std::string family = "tag36h11";
@@ -45,7 +47,7 @@ cv::Mat render_markers(const CameraModel& camera, const std::vector<MarkerPlacem
 
 // Renders an 8-bit grey picture (a printed calibration board, say) lying in the plane
 // z = 0 of frame M, centred on M's origin, x to its right and y up, `width_m` wide
-// (its height by its aspect), the same way as the markers: pinhole, area-integrated.
+// (its height by its aspect), the same way as the markers: through the lens, area-integrated.
 cv::Mat render_planar_image(const CameraModel& camera, const cv::Mat& picture, double width_m,
                             const geometry::Pose& X_CM, const cv::Mat& background = {},
                             const ImageEffects& effects = {}, int supersample = 4);
