@@ -14,6 +14,7 @@
 #include <string>
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "configs/loader/camera_config.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
@@ -75,6 +76,25 @@ TEST(CalibrateCameraCli, WritesTheCameraThePicturesCameFrom) {
   EXPECT_NEAR(written.cx_px, 311.5, 0.5);
   EXPECT_NEAR(written.cy_px, 247.0, 0.5);
   EXPECT_NE(read_file(out).find("ChArUco board 7x5 squares of 0.03 m"), std::string::npos);
+
+  // A video of the same pictures, each held for 10 frames: every 5th frame is tried and a
+  // view that has not moved from the last one kept adds nothing, so each picture gives one
+  // view (the stills of a folder are all kept).
+  {
+    cv::VideoWriter video((dir / "sweep.avi").string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), 30, {640, 480}, false);
+    ASSERT_TRUE(video.isOpened());
+    for (int k = 0; k < 12; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "view%02d.png", k);
+      const cv::Mat picture = cv::imread((dir / "pictures" / name).string(), cv::IMREAD_GRAYSCALE);
+      for (int repeat = 0; repeat < 10; ++repeat) video.write(picture);
+    }
+  }
+  ASSERT_EQ(run("--source " + (dir / "sweep.avi").string() + " --out " + out + " --no-distortion", dir), 0)
+      << read_file(dir / "err.txt");
+  EXPECT_NE(read_file(dir / "err.txt").find("120 pictures read, the board found in 24, 12 views kept"), std::string::npos)
+      << read_file(dir / "err.txt");
+  EXPECT_NEAR(config::load_camera(out).fx_px, 585, 0.003 * 585);
 
   // Pictures of another board (other dictionary): no views, a clear refusal, no file.
   std::filesystem::remove(out);
