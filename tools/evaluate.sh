@@ -56,8 +56,8 @@ dynamics() {
   gnuplot -e "drop='$out/dyn/dyn_drop.csv'; outdir='$out/dyn'" "$root/tools/dyn_bench/dyn_charts.gp"
 }
 stacks() {
-  # The iterative solver takes up to 70 ms per step once a stack topples: --quick leaves it out.
-  local engines=arphys,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
+  # (Warm-started, the iterative solver keeps every stack up at 1-20 ms: --quick runs it too.)
+  local engines=arphys,arphys-iterative,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
   ((quick)) || engines=arphys,arphys-10um,arphys-iterative,bullet,ode-step,ode-quick,mujoco-newton,mujoco-pgs,mujoco-cg
   "$build/tools/dyn_bench/arphys-dyn-bench" --scenes stack --engines "$engines" --stack-dts 0.001,0.005,0.01,0.02 \
     --stack-seconds "$(n 60 10)" --out "$out" > "$out/dyn/dyn_stack.txt"
