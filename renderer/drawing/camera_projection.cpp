@@ -18,6 +18,7 @@ CameraProjection CameraProjection::from_config(const config::CameraConfig& camer
   p.cy_px = camera.cy_px;
   p.near_m = near_m;
   p.far_m = far_m;
+  if (camera.has_distortion()) p.distortion = camera.distortion;
   return p;
 }
 

@@ -60,10 +60,11 @@ unsigned compile(GLenum type, const char* source) {
 }  // namespace
 
 OverlayRenderer::OverlayRenderer(const CameraProjection& projection, std::unique_ptr<OffscreenContext> context)
-    : projection_(projection), context_(std::move(context)) {
-  if (!context_) context_ = make_offscreen_context(projection.width_px, projection.height_px);
-  if (context_->width_px() != projection.width_px || context_->height_px() != projection.height_px) {
-    throw std::invalid_argument("overlay renderer: context size differs from the camera's");
+    : projection_(projection), lens_(projection), context_(std::move(context)) {
+  const CameraProjection& canvas = lens_.canvas();
+  if (!context_) context_ = make_offscreen_context(canvas.width_px, canvas.height_px);
+  if (context_->width_px() != canvas.width_px || context_->height_px() != canvas.height_px) {
+    throw std::invalid_argument("overlay renderer: context size differs from the drawing canvas's");
   }
   context_->make_current();
   const unsigned vs = compile(GL_VERTEX_SHADER, kVertexShader), fs = compile(GL_FRAGMENT_SHADER, kFragmentShader);
@@ -88,7 +89,7 @@ OverlayRenderer::OverlayRenderer(const CameraProjection& projection, std::unique
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
   glVertexAttrib3f(1, 0, 0, 1);
   glBindVertexArray(0);
-  glViewport(0, 0, projection.width_px, projection.height_px);
+  glViewport(0, 0, canvas.width_px, canvas.height_px);
 }
 
 OverlayRenderer::~OverlayRenderer() {
@@ -108,7 +109,7 @@ const GpuMesh* OverlayRenderer::upload(const geometry::TriangleMesh& mesh) {
 void OverlayRenderer::draw_lines(const std::vector<Eigen::Vector3f>& points_C, const Eigen::Vector4f& rgba, bool as_points) {
   if (points_C.empty()) return;
   const Eigen::Matrix4f eye_from_camera = CameraProjection::eye_from_camera();
-  const Eigen::Matrix4f clip = projection_.clip_from_eye() * eye_from_camera;
+  const Eigen::Matrix4f clip = lens_.canvas().clip_from_eye() * eye_from_camera;
   glUniformMatrix4fv(u_clip_from_object_, 1, GL_FALSE, clip.data());
   glUniformMatrix4fv(u_eye_from_object_, 1, GL_FALSE, eye_from_camera.data());
   glUniform4fv(u_colour_, 1, rgba.data());
@@ -130,7 +131,7 @@ cv::Mat OverlayRenderer::render_rgba(const OverlayLayers& layers) {
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);  // meshes may be open soups
   glDisable(GL_BLEND);
-  const Eigen::Matrix4f clip_from_eye = projection_.clip_from_eye();
+  const Eigen::Matrix4f clip_from_eye = lens_.canvas().clip_from_eye();
   const Eigen::Matrix4f eye_from_camera = CameraProjection::eye_from_camera();
   auto draw = [&](const DrawItem& item) {
     const Eigen::Matrix4f eye_from_object = eye_from_camera * item.X_CO.matrix().cast<float>();
@@ -184,7 +185,7 @@ cv::Mat OverlayRenderer::render_rgba(const OverlayLayers& layers) {
   }
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
-  return context_->rgba();
+  return lens_.apply(context_->rgba());
 }
 
 cv::Mat OverlayRenderer::composite(const OverlayLayers& layers, const cv::Mat& frame) {

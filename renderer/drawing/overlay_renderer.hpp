@@ -9,6 +9,7 @@
 #include "renderer/context/offscreen_context.hpp"
 #include "renderer/drawing/camera_projection.hpp"
 #include "renderer/drawing/gpu_mesh.hpp"
+#include "renderer/drawing/lens_warp.hpp"
 
 namespace arphys::rendering {
 
@@ -40,12 +41,14 @@ struct OverlayLayers {
   double axes_length_m = 0.1;
 };
 
-// Draws virtual objects from the camera's viewpoint and composites them over the
-// camera frame. Phantoms first (depth only), then shaded objects, then translucent
+// Draws virtual objects from the camera's viewpoint, through its lens when it has
+// distortion (LensWarp), and composites them over the camera frame. Phantoms first (depth only), then shaded objects, then translucent
 // proxies, then the debug layers; the colour buffer holds premultiplied colour and
 // coverage, so compositing keeps every pixel no virtual object covers exactly.
 class OverlayRenderer {
  public:
+  // A given context must have the size of the drawing canvas (the camera's, unless the
+  // lens widens it: LensWarp::canvas()).
   explicit OverlayRenderer(const CameraProjection& projection, std::unique_ptr<OffscreenContext> context = nullptr);
   ~OverlayRenderer();
 
@@ -65,6 +68,7 @@ class OverlayRenderer {
   void draw_lines(const std::vector<Eigen::Vector3f>& points_C, const Eigen::Vector4f& rgba, bool as_points);
 
   CameraProjection projection_;
+  LensWarp lens_;  // its canvas() is what GL draws on
   std::unique_ptr<OffscreenContext> context_;
   unsigned program_ = 0;
   int u_clip_from_object_ = -1, u_eye_from_object_ = -1, u_colour_ = -1, u_lit_ = -1;

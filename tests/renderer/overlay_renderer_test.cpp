@@ -4,6 +4,9 @@
 // virtual object covers keep the frame's values exactly.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "renderer/drawing/overlay_renderer.hpp"
@@ -75,6 +78,54 @@ TEST(OverlayRenderer, RegistersWithTheAnalyticProjection) {
     const cv::Point2d a = centroid(drawn), b = centroid(truth);
     EXPECT_LT(std::hypot(a.x - b.x, a.y - b.y), 0.1) << "centroid (" << a.x << ", " << a.y << ") vs (" << b.x << ", "
                                                      << b.y << ")";
+  }
+}
+
+// A webcam's barrel lens (k1 -0.28): the overlay is drawn through it, so a box near the
+// image's corners covers the pixels the lens shows it on (each pixel centre, undistorted,
+// falls inside the pinhole outline), not those a pinhole would, 10-20 px away.
+TEST(OverlayRenderer, DrawsThroughTheCamerasLens) {
+  auto camera = camera_640x480();
+  camera.distortion = {-0.28, 0.09, 0.0005, -0.0003, 0.0};
+  OverlayRenderer renderer(CameraProjection::from_config(camera));
+  const cv::Matx33d K(camera.fx_px, 0, camera.cx_px, 0, camera.fy_px, camera.cy_px, 0, 0, 1);
+  std::vector<cv::Point2d> pixels, pinhole;
+  for (int y = 0; y < camera.height_px; ++y)
+    for (int x = 0; x < camera.width_px; ++x) pixels.emplace_back(x, y);
+  cv::undistortPoints(pixels, pinhole, K, camera.distortion, cv::noArray(), K,
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
+  const Eigen::Vector3d size(0.06, 0.05, 0.04);
+  const GpuMesh* box = renderer.upload(geometry::make_box_mesh(size));
+  int k = 0;
+  for (const auto& at : {Eigen::Vector2d(70, 60), Eigen::Vector2d(575, 55), Eigen::Vector2d(60, 420),
+                         Eigen::Vector2d(580, 425), Eigen::Vector2d(320, 240)}) {
+    // The box's centre on the ray through that pinhole pixel, 0.6 m away.
+    const double z = 0.6;
+    const Eigen::Isometry3d X_CO =
+        pose({(at.x() - camera.cx_px) / camera.fx_px * z, (at.y() - camera.cy_px) / camera.fy_px * z, z}, {1, 1, 0.3}, 0.5 * k++);
+    OverlayLayers layers;
+    layers.items.push_back({box, X_CO, {0.2f, 0.6f, 0.9f, 1.0f}, DrawStyle::kShaded});
+    cv::Mat drawn;
+    cv::extractChannel(renderer.render_rgba(layers), drawn, 3);
+    cv::threshold(drawn, drawn, 127, 255, cv::THRESH_BINARY);  // (the warp interpolates coverage)
+    const cv::Mat outline = analytic_silhouette(camera, size, X_CO);  // the pinhole outline
+    cv::Mat truth(camera.height_px, camera.width_px, CV_8UC1, cv::Scalar(0));
+    for (int y = 0; y < truth.rows; ++y)
+      for (int x = 0; x < truth.cols; ++x) {
+        const cv::Point2d& q = pinhole[static_cast<std::size_t>(y) * truth.cols + x];
+        const int qx = static_cast<int>(std::lround(q.x)), qy = static_cast<int>(std::lround(q.y));
+        if (qx >= 0 && qy >= 0 && qx < truth.cols && qy < truth.rows && outline.at<uint8_t>(qy, qx)) truth.at<uint8_t>(y, x) = 255;
+      }
+    ASSERT_GT(cv::countNonZero(truth), 500);
+    const double iou = cv::countNonZero(drawn & truth) / static_cast<double>(cv::countNonZero(drawn | truth));
+    const cv::Point2d a = centroid(drawn), b = centroid(truth), c = centroid(outline);
+    std::printf("box at pinhole (%.0f, %.0f): IoU %.3f, centroid off %.2f px; the pinhole outline is %.1f px away\n", at.x(),
+                at.y(), iou, std::hypot(a.x - b.x, a.y - b.y), std::hypot(c.x - b.x, c.y - b.y));
+    EXPECT_GE(iou, 0.97);
+    EXPECT_LT(std::hypot(a.x - b.x, a.y - b.y), 0.3);
+    if (at.x() != 320) {
+      EXPECT_GT(std::hypot(c.x - b.x, c.y - b.y), 8.0);  // what a pinhole overlay would be off by
+    }
   }
 }
 
