@@ -618,8 +618,8 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       }
     } else {
       // Warm start: the sweeps begin from last step's impulses, applied, instead of from
-      // nothing. A resting pile's impulses change little from step to step, and from zero
-      // 50 sweeps left a 1000-box pile's rows up to 0.04 m/s from their bounds.
+      // nothing. Resting contacts' impulses change little from step to step; from zero, 50
+      // sweeps left a stack of ten 1.5 mm/s off its bounds every step, and it toppled.
       friction.f1.assign(n, 0.0);
       friction.f2.assign(n, 0.0);
       for (int k = 0; k < n; ++k) {

@@ -224,13 +224,13 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     const std::pair<int, int> key{std::min(i, j), std::max(i, j)};
     const auto pushed = std::lower_bound(pushed_before_.begin(), pushed_before_.end(), key,
                                          [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
+    const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
+                                       [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
     for (const auto& feature : features) {
       Contact contact{i, j, feature, 0.0};
       const Eigen::Vector3d point_W = row_point(feature);
       for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
         contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
-      const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
-                                         [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
       double nearest_m = tolerance;
       for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
         if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {
