@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <opencv2/calib3d.hpp>
+
 #include "lcmtypes/msg/pose_conversions.hpp"
 
 namespace arphys::tools {
@@ -46,9 +48,16 @@ void RegistrationReport::on_render_status(const arphys::render_status_t& m) {
   const Eigen::Isometry3d X_CW = truth->second.X_WC.inverse();
   double sum_sq = 0;
   for (const Eigen::Vector3d& p_O : corners_O_) {
+    // Where the camera shows the point: through its lens, as the frame and the overlay do.
     auto pixel = [&](const Eigen::Isometry3d& X_WO) {
       const Eigen::Vector3d p_C = X_CW * (X_WO * p_O);
-      return Eigen::Vector2d(camera_.fx_px * p_C.x() / p_C.z() + camera_.cx_px, camera_.fy_px * p_C.y() / p_C.z() + camera_.cy_px);
+      if (!camera_.has_distortion())
+        return Eigen::Vector2d(camera_.fx_px * p_C.x() / p_C.z() + camera_.cx_px, camera_.fy_px * p_C.y() / p_C.z() + camera_.cy_px);
+      std::vector<cv::Point2d> uv;
+      cv::projectPoints(std::vector<cv::Point3d>{{p_C.x(), p_C.y(), p_C.z()}}, cv::Vec3d::all(0), cv::Vec3d::all(0),
+                        cv::Matx33d(camera_.fx_px, 0, camera_.cx_px, 0, camera_.fy_px, camera_.cy_px, 0, 0, 1),
+                        camera_.distortion, uv);
+      return Eigen::Vector2d(uv[0].x, uv[0].y);
     };
     sum_sq += (pixel(drawn->second) - pixel(truth->second.X_WO)).squaredNorm();
   }

@@ -71,7 +71,12 @@ int main(int argc, char** argv) {
     script = config::load_camera_script(script_path);
     if (script.scene.camera_file.empty()) throw std::invalid_argument(script.scene.file + " names no camera");
     camera = config::load_camera(script.scene.camera_file);
-    gl = std::make_unique<rendering::OverlayRenderer>(rendering::CameraProjection::from_config(camera));
+    // The bodies are drawn pinhole: the marker renderer takes the whole frame through the
+    // camera's lens, once (drawn through it here as well, the bodies were bent twice and
+    // the markers' quiet zones no longer matched the faces around them).
+    rendering::CameraProjection pinhole = rendering::CameraProjection::from_config(camera);
+    pinhole.distortion.clear();
+    gl = std::make_unique<rendering::OverlayRenderer>(pinhole);
     models = std::make_unique<rendering::SceneModels>(script.scene, *gl);
     if (!no_lcm) bus = std::make_unique<msg::Bus>(url.empty() ? script.scene.lcm_url : url);
     if (!folder.empty()) std::filesystem::create_directories(folder);
