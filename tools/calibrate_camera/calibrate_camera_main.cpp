@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <regex>
 #include <string>
@@ -21,6 +23,10 @@ namespace {
 
 using namespace arphys;
 using namespace arphys::tracking;
+
+// Ctrl-C ends the collection (a live camera runs until --max-views): the views so far are used.
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
 
 CharucoBoardSpec parse_board(const std::string& squares, double square_size_m, double marker_size_m,
                              const std::string& dictionary) {
@@ -78,7 +84,7 @@ int main(int argc, char** argv) {
   app.add_option("--min-motion", min_motion_px, "video/camera: a view whose corners moved less than this from the last "
                                                 "view kept adds nothing and is skipped, pixels")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
-  app.add_option("--max-views", max_views, "stop after this many views")->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--max-views", max_views, "stop after this many views (or at Ctrl-C: the views so far are used)")->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--min-corners", min_corners, "a picture is a view when this many board corners are found")
       ->check(CLI::Range(4, 10000))->capture_default_str();
   app.add_option("--fps", fps, "image folder: nominal frame rate (for the frame stamps only)")->check(CLI::PositiveNumber);
@@ -111,7 +117,9 @@ int main(int argc, char** argv) {
     cv::Size image_size;
     int64_t read = 0, with_board = 0;
     int idle_polls = 0;
-    while (static_cast<int>(views.size()) < max_views) {
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    while (static_cast<int>(views.size()) < max_views && !g_stop) {
       const auto frame = frames->next(1000);
       if (!frame) {
         if (frames->finished()) break;
@@ -135,8 +143,9 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "[calibrate] %s: %zu corners, view %zu of at most %d\n", name.c_str(), view->corners_px.size(),
                    views.size(), max_views);
     }
-    std::fprintf(stderr, "[calibrate] %lld pictures read, the board found in %lld, %zu views kept\n",
-                 static_cast<long long>(read), static_cast<long long>(with_board), views.size());
+    std::fprintf(stderr, "[calibrate] %s%lld pictures read, the board found in %lld, %zu views kept\n",
+                 g_stop ? "stopped: " : "", static_cast<long long>(read), static_cast<long long>(with_board),
+                 views.size());
     CalibrationOptions options;
     options.distortion = !no_distortion;
     options.free_k3 = free_k3;
