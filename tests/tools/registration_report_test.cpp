@@ -66,5 +66,27 @@ TEST(RegistrationReport, PixelsBetweenDrawnAndTrueObject) {
   EXPECT_NEAR(report.to_json()["max_px"].get<double>(), 5.0, 1e-9);
 }
 
+// Through a lens the same offset covers the pixels the lens shows it over: near the
+// image's edge a barrel lens squeezes it (k1 -0.3 at 0.4 of the focal length off axis:
+// 1 - 3 k1 r^2 = 0.856 of the pinhole's 5 px, to first order).
+TEST(RegistrationReport, PixelsAreCountedThroughTheLens) {
+  config::CameraConfig camera;
+  camera.width_px = 640;
+  camera.height_px = 480;
+  camera.fx_px = camera.fy_px = 500;
+  camera.cx_px = 320;
+  camera.cy_px = 240;
+  camera.distortion = {-0.3, 0, 0, 0, 0};
+  RegistrationReport report(camera, "box", {{0, 0, 0}});
+  report.on_ground_truth(truth(1000, {0.4, 0, 1}));
+  report.on_world_state(world(0.1, {0.41, 0, 1}));
+  report.on_render_status(drawn(1000, 0.1));
+  ASSERT_EQ(report.errors_px().size(), 1u);
+  // Exactly: 500 (x (1 + k1 x^2)) between x = 0.4 and 0.41.
+  const auto distorted = [](double x) { return 500 * x * (1 - 0.3 * x * x); };
+  EXPECT_NEAR(report.errors_px()[0], distorted(0.41) - distorted(0.4), 1e-9);
+  EXPECT_NEAR(report.errors_px()[0], 5.0 * (1 - 3 * 0.3 * 0.16), 0.05);
+}
+
 }  // namespace
 }  // namespace arphys::tools
