@@ -1122,13 +1122,14 @@ StepReport World::step(double dt_s) {
   // island too large for it (max_exact_rows). (Kept always, they made a 100-box drop,
   // where every island is small and exact, 10 % slower.)
   warm_forces_.clear();
-  const bool iterative = options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
-  for (const Contact& c : solved)
-    if (iterative && c.impulse_N_s > 0)
-      warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
-                              c.impulse_W_N_s / dt_s});
-  std::sort(warm_forces_.begin(), warm_forces_.end(),
-            [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
+  if (options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0) {
+    for (const Contact& c : solved)
+      if (c.impulse_N_s > 0)
+        warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
+                                c.impulse_W_N_s / dt_s});
+    std::sort(warm_forces_.begin(), warm_forces_.end(),
+              [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
+  }
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);

@@ -14,15 +14,11 @@
 #include <nlohmann/json.hpp>
 
 #include "lcm/lcm-cpp.hpp"
+#include "tests/support/read_file.hpp"
 
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using arphys::testing::read_file;
 
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 
@@ -32,16 +28,16 @@ nlohmann::json run_application_two(const std::string& dir, const std::string& ur
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string configs = std::string(ARPHYS_SOURCE_DIR) + "/configs";
-  std::string camera = read(configs + "/cameras/synthetic_640x480.yaml");
+  std::string camera = read_file(configs + "/cameras/synthetic_640x480.yaml");
   camera = std::regex_replace(camera, std::regex(R"(data: \[ 0\., 0\., 0\., 0\., 0\. \])"), distortion);
   EXPECT_NE(camera.find(distortion), std::string::npos);
   write(dir + "/camera.yaml", camera);
   // Application 2's scene and camera script, pointing at it (other paths made absolute).
-  std::string scene = read(configs + "/scenes/bunny_box_table.yaml");
+  std::string scene = read_file(configs + "/scenes/bunny_box_table.yaml");
   scene = std::regex_replace(scene, std::regex(R"(camera: \.\./cameras/synthetic_640x480\.yaml)"), "camera: " + dir + "/camera.yaml");
   scene = std::regex_replace(scene, std::regex(R"(\.\./models/)"), configs + "/models/");
   write(dir + "/scene.yaml", scene);
-  std::string script = read(configs + "/synthetic/box_push.yaml");
+  std::string script = read_file(configs + "/synthetic/box_push.yaml");
   script = std::regex_replace(script, std::regex(R"(scene: \.\./scenes/bunny_box_table\.yaml)"), "scene: " + dir + "/scene.yaml");
   write(dir + "/script.yaml", script);
   const std::string out = dir + "/out";

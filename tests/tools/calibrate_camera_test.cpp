@@ -20,18 +20,14 @@
 #include <opencv2/videoio.hpp>
 
 #include "configs/loader/camera_config.hpp"
+#include "tests/support/read_file.hpp"
 #include "tests/support/spawn_process.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
 namespace arphys::tracking {
 namespace {
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using arphys::testing::read_file;
 
 int run(const std::string& arguments, const std::filesystem::path& dir) {
   const std::string command = std::string(ARPHYS_BINARY_DIR) + "/tools/calibrate_camera/arphys-calibrate-camera " +

@@ -8,14 +8,11 @@
 #include <sstream>
 #include <string>
 
+#include "tests/support/read_file.hpp"
+
 namespace {
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using arphys::testing::read_file;
 
 TEST(CcdQueryCli, AnswersEachLineAndNamesBadLines) {
   const auto dir = std::filesystem::temp_directory_path() / ("ccd_query_test_" + std::to_string(::getpid()));

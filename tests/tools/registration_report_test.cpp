@@ -42,13 +42,19 @@ arphys::render_status_t drawn(int64_t utime, double sim_time_s) {
   return m;
 }
 
-TEST(RegistrationReport, PixelsBetweenDrawnAndTrueObject) {
+// 640x480, f = 500 px, centred.
+config::CameraConfig camera_500px() {
   config::CameraConfig camera;
   camera.width_px = 640;
   camera.height_px = 480;
   camera.fx_px = camera.fy_px = 500;
   camera.cx_px = 320;
   camera.cy_px = 240;
+  return camera;
+}
+
+TEST(RegistrationReport, PixelsBetweenDrawnAndTrueObject) {
+  const config::CameraConfig camera = camera_500px();
   RegistrationReport report(camera, "box", {{0, 0, 0}, {0.05, 0, 0}});
   // Frame 1: drawn where it is. Frame 2: drawn 1 cm off sideways at 1 m: 5 px. A
   // world state the renderer did not use (sim time 0.3) changes nothing.
@@ -68,14 +74,9 @@ TEST(RegistrationReport, PixelsBetweenDrawnAndTrueObject) {
 
 // Through a lens the same offset covers the pixels the lens shows it over: near the
 // image's edge a barrel lens squeezes it (k1 -0.3 at 0.4 of the focal length off axis:
-// 1 - 3 k1 r^2 = 0.856 of the pinhole's 5 px, to first order).
+// 1 + 3 k1 r^2 = 0.856 of the pinhole's 5 px, to first order).
 TEST(RegistrationReport, PixelsAreCountedThroughTheLens) {
-  config::CameraConfig camera;
-  camera.width_px = 640;
-  camera.height_px = 480;
-  camera.fx_px = camera.fy_px = 500;
-  camera.cx_px = 320;
-  camera.cy_px = 240;
+  config::CameraConfig camera = camera_500px();
   camera.distortion = {-0.3, 0, 0, 0, 0};
   RegistrationReport report(camera, "box", {{0, 0, 0}});
   report.on_ground_truth(truth(1000, {0.4, 0, 1}));

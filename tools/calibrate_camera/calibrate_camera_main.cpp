@@ -15,7 +15,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "configs/loader/camera_config.hpp"
-#include "configs/loader/config_error.hpp"
 #include "tracker/calibration/charuco_calibration.hpp"
 #include "tracker/sources/frame_source.hpp"
 
@@ -169,9 +168,7 @@ int main(int argc, char** argv) {
       std::printf("warning: an RMS error above 1 px usually means a wrong --square-size/--marker-size, a bent board or "
                   "blurred pictures\n");
     return 0;
-  } catch (const config::ConfigError& e) {
-    std::fprintf(stderr, "arphys-calibrate-camera: %s\n", e.what());
-  } catch (const std::exception& e) {
+  } catch (const std::exception& e) {  // (config::ConfigError names the file and key itself)
     std::fprintf(stderr, "arphys-calibrate-camera: %s\n", e.what());
   }
   return 1;

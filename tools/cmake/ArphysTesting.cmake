@@ -13,6 +13,7 @@ function(arphys_add_test name)
   endif()
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+  target_include_directories(${name} PRIVATE ${ARPHYS_SOURCE_DIR})  # tests/support/
   target_compile_definitions(${name} PRIVATE
     ARPHYS_SOURCE_DIR="${ARPHYS_SOURCE_DIR}"
     ARPHYS_BINARY_DIR="${CMAKE_BINARY_DIR}")
