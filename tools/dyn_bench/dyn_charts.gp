@@ -28,3 +28,17 @@ set ylabel 'deepest penetration, mm (log; 0 drawn at 1e-4)'
 set key outside right
 floor_mm(x) = (x > 1e-4 ? x : 1e-4)
 plot for [e in engines] sprintf("< awk -F, '$1 == \"%s\"' '%s'", e, drop) using 4:(floor_mm($5 > $8 ? $5 : $8)) with points pt 7 ps 1.4 title e
+
+# 3. The pile as the anchor measured the issue's target (2 s, mean ms per step): the
+#    deeper of box-into-plane and box-into-box against time per step (only when the
+#    anchor-pile scene ran).
+if (exists("anchor")) {
+  set output outdir.'/dyn_anchor_pile.png'
+  set title "1000 boxes, dt = 1 ms, 2 s: penetration against mean time per step"
+  set xlabel 'mean ms per step = wall s per simulated s (log)'
+  set ylabel 'deepest penetration, mm (log)'
+  set key outside right
+  plot for [e in "arphys arphys-10um bullet ode-quick"] for [mu in "0 0.5"] \
+    sprintf("< awk -F, '$1 == \"%s\" && $2 == %s' '%s'", e, mu, anchor) \
+    using 3:(floor_mm($5 > $6 ? $5 : $6)) with points pt (mu eq "0" ? 7 : 5) ps 1.6 title sprintf("%s, mu %s", e, mu)
+}

@@ -6,5 +6,7 @@ set -euo pipefail
 source "$(dirname "$0")/../bench_common.sh"
 bench_setup dyn arphys-dyn-bench
 "$bench" --out "$out" "$@" | tee "$out/dyn_bench.txt"
-gnuplot -e "drop='$out/dyn_drop.csv'; outdir='$out'" "$root/tools/dyn_bench/dyn_charts.gp"
-echo "charts: $out/dyn_drop_timing.png $out/dyn_accuracy_speed.png" >&2
+anchor=""
+[[ -s "$out/dyn_anchor_pile.csv" ]] && anchor="; anchor='$out/dyn_anchor_pile.csv'"
+gnuplot -e "drop='$out/dyn_drop.csv'; outdir='$out'$anchor" "$root/tools/dyn_bench/dyn_charts.gp"
+echo "charts: $out/dyn_drop_timing.png $out/dyn_accuracy_speed.png${anchor:+ $out/dyn_anchor_pile.png}" >&2
