@@ -6,12 +6,15 @@
 //
 // Live (no --out): subscribes to camera images, world states and tracked poses on LCM;
 // for each frame draws the world state computed from that frame (or the nearest earlier
-// one, --match), composites, writes the outputs asked for, and publishes a render status.
+// one, --match; --wait-ms holds the frame for its own), composites, writes the outputs
+// asked for, and publishes a render status.
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -152,7 +155,7 @@ int main(int argc, char** argv) {
   bool proxies = false, axes = false, overlay_lcm = false, no_contacts = false, window = false;
   std::string spawn_model = "bunny";
   int png_every = 30;
-  double duration_s = 0, near_m = 0.01, far_m = 20.0;
+  double duration_s = 0, near_m = 0.01, far_m = 20.0, wait_ms = 0;
   app.add_option("--camera", camera_path, "camera calibration (OpenCV YAML); default: the scene's camera");
   app.add_option("--scene", scene_path, "scene YAML: models of the objects, LCM channels");
   app.add_option("--background", background, "offline: the picture to draw over (the camera's size)");
@@ -168,6 +171,12 @@ int main(int argc, char** argv) {
   app.add_option("--time", states_time_s, "offline: ... at this simulation time, seconds")->capture_default_str();
   app.add_option("--match", match, "live: which world state to draw over a frame: exact (the one computed from that "
                                    "frame), nearest-earlier, latest")->capture_default_str();
+  app.add_option("--wait-ms", wait_ms,
+                 "live: hold each frame up to this long after it arrives for the world state computed from it (0: draw "
+                 "at once with the states that have arrived, which are an earlier frame's). Waiting keeps a moving "
+                 "tracked object's overlay on its image, at the cost of the simulator's latency")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
   app.add_option("--video", video, "live: write the overlay video here (.mp4: mp4v, .avi: MJPG)");
   app.add_option("--png-dir", png_dir, "live: write PNG snapshots here");
   app.add_option("--png-every", png_every, "live: a snapshot every N frames")->capture_default_str();
@@ -238,9 +247,12 @@ int main(int argc, char** argv) {
 
   WorldStateMatcher<arphys::world_state_t> states(64);
   WorldStateMatcher<geometry::Pose> camera_poses(64);
-  std::optional<arphys::image_t> pending;
+  // The newest frame, and (--wait-ms) the one it superseded while that waited for its own
+  // world state, to be drawn at once.
+  std::optional<arphys::image_t> pending, superseded;
+  std::chrono::steady_clock::time_point pending_arrival;
   BadInput bad;
-  int64_t frames_dropped = 0;
+  int64_t frames_dropped = 0, past_the_wait = 0;
   bus->subscribe<arphys::world_state_t>(scene.channels.world_state,
                                         [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&, const std::string&) {
                                           states.add(m.utime, m);
@@ -252,8 +264,15 @@ int main(int argc, char** argv) {
                                          });
   bus->subscribe<arphys::image_t>(scene.channels.camera_image,
                                   [&](const arphys::image_t& m, const lcm::ReceiveBuffer&, const std::string&) {
-                                    if (pending) ++frames_dropped;  // keep the newest: latency over completeness
+                                    // Keep the newest: latency over completeness. A frame held by the
+                                    // wait is drawn, not dropped, unless one is already due.
+                                    if (pending && wait_ms > 0 && !superseded) {
+                                      superseded = std::move(pending);
+                                    } else if (pending) {
+                                      ++frames_dropped;
+                                    }
                                     pending = m;
+                                    pending_arrival = std::chrono::steady_clock::now();
                                   });
 
   cv::VideoWriter writer;
@@ -282,118 +301,142 @@ int main(int argc, char** argv) {
     }
     bus->publish(scene.channels.sim_command, c);
   };
-  std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, %s, LCM %s\n", scene.name.c_str(),
-               camera_path.c_str(), projection.width_px, projection.height_px, to_string(policy),
+  std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, wait %.0f ms, %s, LCM %s\n", scene.name.c_str(),
+               camera_path.c_str(), projection.width_px, projection.height_px, to_string(policy), wait_ms,
                renderer->describe().c_str(), bus->url().c_str());
+  // How long the pending frame may still wait for its own world state (ms; 0: draw it now).
+  const auto wait_left_ms = [&]() -> double {
+    if (!pending || wait_ms <= 0 || policy == MatchPolicy::kLatest || states.has_reached(pending->utime)) return 0;
+    return wait_ms - std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pending_arrival).count();
+  };
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start;
   int64_t rendered = 0, rendered_since_status = 0, published = 0, without_world = 0;
   double render_ms_since_status = 0;
+  // Draws the world state matched to this frame over it, writes the outputs asked for and
+  // publishes its render status.
+  const auto draw = [&](const arphys::image_t& message) {
+    const int64_t render_start = msg::now_utime();
+    cv::Mat frame;
+    try {
+      frame = msg::decode_image_message(message);
+    } catch (const std::exception& e) {
+      bad.note("undecodable image", e.what());
+    }
+    if (!frame.empty() && (frame.cols != projection.width_px || frame.rows != projection.height_px)) {
+      bad.note("image of the wrong size", std::to_string(frame.cols) + "x" + std::to_string(frame.rows));
+      frame.release();
+    }
+    if (!frame.empty()) {
+      const auto world = states.match(message.utime, policy);
+      const auto camera = camera_poses.match(message.utime, MatchPolicy::kNearestEarlier);
+      const geometry::Pose X_WC = camera.state ? *camera.state : fixed_X_WC;
+      OverlayLayers layers;
+      std::string note = "no world state";
+      if (world.state) {
+        std::vector<BodyToDraw> bodies;
+        for (const auto& b : world.state->bodies) {
+          const std::string problem = msg::pose_problem(b.X_WB);
+          if (!problem.empty()) {
+            bad.note("body with a bad pose", b.body_id + ": " + problem);
+            continue;
+          }
+          bodies.push_back({b.model, b.role == arphys::body_state_t::ROLE_REAL, msg::from_message(b.X_WB)});
+        }
+        int unknown = 0;
+        layers = layers_for(*models, bodies, X_WC, options, &unknown);
+        for (int i = 0; i < unknown; ++i) bad.note("unknown model in the world state", "not in scene " + scene.name);
+        if (!no_contacts) {
+          for (const auto& c : world.state->contacts) {
+            layers.contacts.push_back({layers.X_CW * msg::from_array(c.p_W_m), layers.X_CW.linear() * msg::from_array(c.n_W)});
+          }
+        }
+        note = "world t=" + std::to_string(world.state->sim_time_s).substr(0, 6) + " s";
+      } else {
+        ++without_world;
+      }
+      cv::Mat overlay = renderer->composite(layers, frame);
+      const int64_t render_end = msg::now_utime();
+      char text[200];
+      std::snprintf(text, sizeof text, "render %.1f ms  capture->render %.1f ms  %s", 1e-3 * (render_end - render_start),
+                    1e-3 * (render_end - message.utime), note.c_str());
+      cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 3, cv::LINE_AA);
+      cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
+      if (!video.empty()) {
+        if (!writer.isOpened()) {
+          try {
+            writer = open_video_file(video, 30, overlay.size(), true);
+          } catch (const std::exception& e) {
+            bad.note("video file cannot be written", e.what());
+          }
+        }
+        if (writer.isOpened()) writer.write(overlay);
+      }
+      if (!png_dir.empty() && png_every > 0 && rendered % png_every == 0) {
+        cv::imwrite(png_dir + "/overlay_" + std::to_string(message.seq) + ".png", overlay);
+      }
+      if (overlay_lcm) {
+        arphys::image_t o{};
+        o.utime = message.utime;
+        o.seq = message.seq;
+        o.camera_id = message.camera_id;
+        o.width = overlay.cols;
+        o.height = overlay.rows;
+        o.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
+        cv::imencode(".jpg", overlay, o.data, {cv::IMWRITE_JPEG_QUALITY, 90});
+        o.size = static_cast<int32_t>(o.data.size());
+        bus->publish(scene.channels.overlay_image, o);
+        ++published;
+      }
+      if (window) {
+        cv::imshow("arphys", overlay);
+        const int key = cv::waitKey(1) & 0xff;
+        if (key == 'q' || key == 27) g_stop = true;
+        if (key == 'b') send_command(arphys::sim_command_t::COMMAND_SPAWN);
+        if (key == 'r') send_command(arphys::sim_command_t::COMMAND_RESET);
+        if (key == 'p') {
+          paused = !paused;
+          send_command(paused ? arphys::sim_command_t::COMMAND_PAUSE : arphys::sim_command_t::COMMAND_RESUME);
+        }
+      }
+      arphys::render_status_t status{};
+      status.utime = message.utime;
+      status.seq = message.seq;
+      status.world_state_utime = world.state ? world.capture_utime : 0;
+      status.world_state_sim_time_s = world.state ? world.state->sim_time_s : 0;
+      status.world_state_match = static_cast<int8_t>(world.kind);
+      status.render_start_utime = render_start;
+      status.render_end_utime = render_end;
+      status.publish_utime = msg::now_utime();
+      bus->publish(scene.channels.render_status, status);
+      ++published;
+      ++rendered;
+      ++rendered_since_status;
+      render_ms_since_status += 1e-3 * (render_end - render_start);
+    }
+  };
   while (!g_stop) {
     if (duration_s > 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > duration_s) break;
-    bus->handle_timeout_ms(20);
+    // (While a frame waits, woken by any message, the world state among them, or at its deadline.)
+    const double waiting_ms = wait_left_ms();
+    bus->handle_timeout_ms(waiting_ms > 0 ? std::clamp(static_cast<int>(std::ceil(waiting_ms)), 1, 20) : 20);
     bus->handle_pending();
-    if (pending) {
+    const bool hold = pending && wait_left_ms() > 0;
+    const auto waited_in_vain = [&](const arphys::image_t& frame) {
+      if (wait_ms > 0 && policy != MatchPolicy::kLatest && !states.has_reached(frame.utime)) ++past_the_wait;
+    };
+    if (superseded) {
+      // Held for its own world state when a newer frame came: drawn now with what there is.
+      const arphys::image_t message = std::move(*superseded);
+      superseded.reset();
+      waited_in_vain(message);
+      draw(message);
+    }
+    if (pending && !hold) {
       const arphys::image_t message = std::move(*pending);
       pending.reset();
-      const int64_t render_start = msg::now_utime();
-      cv::Mat frame;
-      try {
-        frame = msg::decode_image_message(message);
-      } catch (const std::exception& e) {
-        bad.note("undecodable image", e.what());
-      }
-      if (!frame.empty() && (frame.cols != projection.width_px || frame.rows != projection.height_px)) {
-        bad.note("image of the wrong size", std::to_string(frame.cols) + "x" + std::to_string(frame.rows));
-        frame.release();
-      }
-      if (!frame.empty()) {
-        const auto world = states.match(message.utime, policy);
-        const auto camera = camera_poses.match(message.utime, MatchPolicy::kNearestEarlier);
-        const geometry::Pose X_WC = camera.state ? *camera.state : fixed_X_WC;
-        OverlayLayers layers;
-        std::string note = "no world state";
-        if (world.state) {
-          std::vector<BodyToDraw> bodies;
-          for (const auto& b : world.state->bodies) {
-            const std::string problem = msg::pose_problem(b.X_WB);
-            if (!problem.empty()) {
-              bad.note("body with a bad pose", b.body_id + ": " + problem);
-              continue;
-            }
-            bodies.push_back({b.model, b.role == arphys::body_state_t::ROLE_REAL, msg::from_message(b.X_WB)});
-          }
-          int unknown = 0;
-          layers = layers_for(*models, bodies, X_WC, options, &unknown);
-          for (int i = 0; i < unknown; ++i) bad.note("unknown model in the world state", "not in scene " + scene.name);
-          if (!no_contacts) {
-            for (const auto& c : world.state->contacts) {
-              layers.contacts.push_back({layers.X_CW * msg::from_array(c.p_W_m), layers.X_CW.linear() * msg::from_array(c.n_W)});
-            }
-          }
-          note = "world t=" + std::to_string(world.state->sim_time_s).substr(0, 6) + " s";
-        } else {
-          ++without_world;
-        }
-        cv::Mat overlay = renderer->composite(layers, frame);
-        const int64_t render_end = msg::now_utime();
-        char text[200];
-        std::snprintf(text, sizeof text, "render %.1f ms  capture->render %.1f ms  %s", 1e-3 * (render_end - render_start),
-                      1e-3 * (render_end - message.utime), note.c_str());
-        cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {0, 0, 0}, 3, cv::LINE_AA);
-        cv::putText(overlay, text, {8, overlay.rows - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.45, {255, 255, 255}, 1, cv::LINE_AA);
-        if (!video.empty()) {
-          if (!writer.isOpened()) {
-            try {
-              writer = open_video_file(video, 30, overlay.size(), true);
-            } catch (const std::exception& e) {
-              bad.note("video file cannot be written", e.what());
-            }
-          }
-          if (writer.isOpened()) writer.write(overlay);
-        }
-        if (!png_dir.empty() && png_every > 0 && rendered % png_every == 0) {
-          cv::imwrite(png_dir + "/overlay_" + std::to_string(message.seq) + ".png", overlay);
-        }
-        if (overlay_lcm) {
-          arphys::image_t o{};
-          o.utime = message.utime;
-          o.seq = message.seq;
-          o.camera_id = message.camera_id;
-          o.width = overlay.cols;
-          o.height = overlay.rows;
-          o.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-          cv::imencode(".jpg", overlay, o.data, {cv::IMWRITE_JPEG_QUALITY, 90});
-          o.size = static_cast<int32_t>(o.data.size());
-          bus->publish(scene.channels.overlay_image, o);
-          ++published;
-        }
-        if (window) {
-          cv::imshow("arphys", overlay);
-          const int key = cv::waitKey(1) & 0xff;
-          if (key == 'q' || key == 27) g_stop = true;
-          if (key == 'b') send_command(arphys::sim_command_t::COMMAND_SPAWN);
-          if (key == 'r') send_command(arphys::sim_command_t::COMMAND_RESET);
-          if (key == 'p') {
-            paused = !paused;
-            send_command(paused ? arphys::sim_command_t::COMMAND_PAUSE : arphys::sim_command_t::COMMAND_RESUME);
-          }
-        }
-        arphys::render_status_t status{};
-        status.utime = message.utime;
-        status.seq = message.seq;
-        status.world_state_utime = world.state ? world.capture_utime : 0;
-        status.world_state_sim_time_s = world.state ? world.state->sim_time_s : 0;
-        status.world_state_match = static_cast<int8_t>(world.kind);
-        status.render_start_utime = render_start;
-        status.render_end_utime = render_end;
-        status.publish_utime = msg::now_utime();
-        bus->publish(scene.channels.render_status, status);
-        ++published;
-        ++rendered;
-        ++rendered_since_status;
-        render_ms_since_status += 1e-3 * (render_end - render_start);
-      }
+      waited_in_vain(message);
+      draw(message);
     }
     const auto now = std::chrono::steady_clock::now();
     if (now - last_status >= std::chrono::seconds(1)) {
@@ -410,6 +453,7 @@ int main(int argc, char** argv) {
                                                 : (states.empty() ? "drawing camera frames only: no world state" : "rendering");
       for (const auto& [kind, count] : bad.counts) msg::add_figure(status, kind, static_cast<double>(count));
       msg::add_figure(status, "frames_without_world_state", static_cast<double>(without_world));
+      if (wait_ms > 0) msg::add_figure(status, "frames_past_the_wait", static_cast<double>(past_the_wait));
       bus->publish(scene.channels.process_status, status);
       last_status = now;
       rendered_since_status = 0;
@@ -417,8 +461,8 @@ int main(int argc, char** argv) {
     }
   }
   std::fprintf(stderr, "renderer: %lld frames rendered, %lld dropped (newer frame waiting), %lld without a world state, "
-               "%lld bad inputs\n",
+               "%lld drawn at the wait's end without their own, %lld bad inputs\n",
                static_cast<long long>(rendered), static_cast<long long>(frames_dropped), static_cast<long long>(without_world),
-               static_cast<long long>(bad.total()));
+               static_cast<long long>(past_the_wait), static_cast<long long>(bad.total()));
   return 0;
 }

@@ -1,4 +1,5 @@
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -48,6 +49,13 @@ class WorldStateMatcher {
       }
     }
     return best;
+  }
+
+  // Whether the producer has gone past this frame: a state computed from it or from a
+  // later frame has arrived. Until then, the frame's own state may still come; after, it
+  // never will (two frames within one simulator step share the later one's state).
+  bool has_reached(int64_t frame_utime) const {
+    return std::any_of(history_.begin(), history_.end(), [&](const Entry& e) { return e.utime >= frame_utime; });
   }
 
   bool empty() const { return history_.empty(); }

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lcm/lcm-cpp.hpp"
+#include "tests/support/run_command.hpp"
 
 namespace {
 
@@ -24,13 +25,10 @@ TEST(Launch, RunsApplicationTwoAndReportsLatency) {
   const std::string command = std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
                               "/tools/arphys-launch " + ARPHYS_SOURCE_DIR +
                               "/configs/scenes/bunny_box_table.yaml --duration 4 --record --lcm-url " + url +
-                              " --out " + out + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  ASSERT_EQ(WEXITSTATUS(pclose(pipe)), 0) << output;
-  ASSERT_TRUE(std::filesystem::exists(out + "/latency.json")) << output;
+                              " --out " + out;
+  const arphys::testing::CommandRun run = arphys::testing::run_command(command);
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  ASSERT_TRUE(std::filesystem::exists(out + "/latency.json")) << run.out;
   EXPECT_GT(std::filesystem::file_size(out + "/overlay.avi"), 100000u);
   EXPECT_GT(std::filesystem::file_size(out + "/run.lcmlog"), 100000u);
   nlohmann::json report;

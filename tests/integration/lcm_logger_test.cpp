@@ -15,8 +15,9 @@
 
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
-#include "tests/support/spawn_process.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "tests/support/run_command.hpp"
+#include "tests/support/spawn_process.hpp"
 
 namespace {
 
@@ -79,16 +80,11 @@ TEST(SceneInfo, MainToolLoadsBothScenesAndRoundTripsOverLcm) {
   if (!multicast_available()) GTEST_SKIP() << "no multicast route on this host";
   for (const char* scene : {"bunny_box_table", "spoon_teacup"}) {
     const std::string command = std::string(ARPHYS_BINARY_DIR) + "/tools/scene_info/arphys-scene-info " +
-                                ARPHYS_SOURCE_DIR + "/configs/scenes/" + scene + ".yaml --lcm-url '" + kUrl + "' 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    std::string output;
-    char buffer[512];
-    while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-    const int status = pclose(pipe);
-    EXPECT_EQ(WEXITSTATUS(status), 0) << output;
-    EXPECT_NE(output.find(std::string("scene ") + scene), std::string::npos) << output;
-    EXPECT_NE(output.find("received back after"), std::string::npos) << output;
+                                ARPHYS_SOURCE_DIR + "/configs/scenes/" + scene + ".yaml --lcm-url '" + kUrl + "'";
+    const arphys::testing::CommandRun run = arphys::testing::run_command(command);
+    EXPECT_EQ(run.exit_code, 0) << run.out;
+    EXPECT_NE(run.out.find(std::string("scene ") + scene), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("received back after"), std::string::npos) << run.out;
   }
 }
 

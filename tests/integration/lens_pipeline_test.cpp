@@ -15,6 +15,7 @@
 
 #include "lcm/lcm-cpp.hpp"
 #include "tests/support/read_file.hpp"
+#include "tests/support/run_command.hpp"
 
 namespace {
 
@@ -43,12 +44,9 @@ nlohmann::json run_application_two(const std::string& dir, const std::string& ur
   const std::string out = dir + "/out";
   const std::string command = std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
                               "/tools/arphys-launch " + dir + "/scene.yaml --script " + dir +
-                              "/script.yaml --duration 6 --lcm-url " + url + " --out " + out + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (fgets(buffer, sizeof buffer, pipe)) output += buffer;
-  EXPECT_EQ(WEXITSTATUS(pclose(pipe)), 0) << output;
+                              "/script.yaml --duration 6 --lcm-url " + url + " --out " + out;
+  const arphys::testing::CommandRun run = arphys::testing::run_command(command);
+  EXPECT_EQ(run.exit_code, 0) << run.out;
   nlohmann::json report;
   std::ifstream(out + "/latency.json") >> report;
   std::filesystem::remove_all(dir);

@@ -10,24 +10,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "tests/support/run_command.hpp"
+
 namespace {
 
 const std::string kBin = std::string(ARPHYS_BINARY_DIR);
 const std::string kSrc = std::string(ARPHYS_SOURCE_DIR);
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-};
-
-CliRun run(const std::string& command) {
-  CliRun r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  char buffer[4096];
-  while (fgets(buffer, sizeof buffer, pipe)) r.out += buffer;
-  r.exit_code = WEXITSTATUS(pclose(pipe));
-  return r;
-}
+using CliRun = arphys::testing::CommandRun;
+CliRun run(const std::string& command) { return arphys::testing::run_command(command); }
 
 const std::string kRenderer = kBin + "/renderer/app/renderer";
 const std::string kCamera = kSrc + "/configs/cameras/synthetic_640x480.yaml";
@@ -36,7 +27,7 @@ TEST(RendererCli, HelpDocumentsEveryOption) {
   const CliRun r = run(kRenderer + " --help");
   EXPECT_EQ(r.exit_code, 0);
   for (const char* option : {"--camera", "--background", "--out", "--scene", "--mesh", "--pose", "--camera-pose",
-                             "--match", "--video", "--png-dir", "--overlay-lcm", "--proxies"}) {
+                             "--match", "--wait-ms", "--video", "--png-dir", "--overlay-lcm", "--proxies"}) {
     EXPECT_NE(r.out.find(option), std::string::npos) << option;
   }
   EXPECT_EQ(run(kBin + "/tools/synthetic_camera/arphys-synthetic-camera --help").exit_code, 0);

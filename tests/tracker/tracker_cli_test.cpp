@@ -15,6 +15,7 @@
 
 #include "configs/loader/camera_config.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "tests/support/run_command.hpp"
 #include "tests/tracker/tracker_test_support.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
@@ -23,19 +24,8 @@ namespace {
 const std::string kTracker = std::string(ARPHYS_BINARY_DIR) + "/tracker/app/tracker";
 const std::string kData = std::string(ARPHYS_SOURCE_DIR) + "/tests/data/";
 
-struct CliRun {
-  int exit_code = -1;
-  std::string out;
-};
-
-CliRun run(const std::string& args) {
-  CliRun r;
-  FILE* pipe = popen((kTracker + " " + args + " 2>&1").c_str(), "r");
-  char buffer[4096];
-  while (fgets(buffer, sizeof buffer, pipe)) r.out += buffer;
-  r.exit_code = WEXITSTATUS(pclose(pipe));
-  return r;
-}
+using CliRun = arphys::testing::CommandRun;
+CliRun run(const std::string& args) { return arphys::testing::run_command(kTracker + " " + args); }
 
 std::vector<nlohmann::json> json_lines(const std::string& out) {
   std::vector<nlohmann::json> lines;

@@ -155,7 +155,7 @@ int main(int argc, char** argv) {
   std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
   std::string tracker_filter = "constant_velocity";
-  double duration_s = 20, spawn_every_s = 1.0;
+  double duration_s = 20, spawn_every_s = 1.0, renderer_wait_ms = 0;
   bool record = false, restart = false;
   double receive_loss = 0;
   std::string tracking_policy;
@@ -182,6 +182,11 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM URL for every process (default: the scene's)");
   app.add_option("--tracking-policy", tracking_policy, "override the scene's tracking policy in the simulator")
       ->check(CLI::IsMember({"delay", "extrapolate"}));
+  app.add_option("--renderer-wait-ms", renderer_wait_ms,
+                 "the renderer holds each frame up to this long for the world state computed from it (renderer "
+                 "--wait-ms): the overlay shows the frame's own world, later")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
   app.add_option("--receive-loss", receive_loss,
                  "fault injection: every started process drops this fraction of the messages it receives, at random "
                  "(ARPHYS_FAULT_RECEIVE_LOSS)")
@@ -288,6 +293,7 @@ int main(int argc, char** argv) {
   }
   if (wanted("renderer")) {
     std::vector<std::string> args{b + "/renderer/app/renderer", "--scene", scene.file, "--lcm-url", url, "--duration", seconds};
+    if (renderer_wait_ms > 0) args.insert(args.end(), {"--wait-ms", std::to_string(renderer_wait_ms)});
     if (!out_dir.empty()) {
       args.insert(args.end(), {"--video", out_dir + "/overlay.avi", "--png-dir", out_dir + "/snapshots", "--png-every", "90"});
     }

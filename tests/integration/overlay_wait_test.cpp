@@ -1,0 +1,63 @@
+// The renderer waiting for each frame's own world state (--renderer-wait-ms): application 2
+// through the launcher with the tracked box extrapolated to each frame, once drawn at once
+// (the renderer then has only an earlier frame's world state) and once waiting. Waiting,
+// the overlay draws the box where the frame shows it, also while it moves.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "lcm/lcm-cpp.hpp"
+#include "tests/support/run_command.hpp"
+
+namespace {
+
+// The launcher's report of 6 s of application 2.
+nlohmann::json run_application_two(const std::string& url, const std::string& wait_ms) {
+  const std::string out = ::testing::TempDir() + "overlay_wait_test";
+  std::filesystem::remove_all(out);
+  const auto run = arphys::testing::run_command(
+      std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR + "/tools/arphys-launch " +
+      ARPHYS_SOURCE_DIR + "/configs/scenes/bunny_box_table.yaml --duration 6 --tracking-policy extrapolate " +
+      "--renderer-wait-ms " + wait_ms + " --lcm-url " + url + " --out " + out);
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  nlohmann::json report;
+  std::ifstream(out + "/latency.json") >> report;
+  std::filesystem::remove_all(out);
+  return report;
+}
+
+TEST(OverlayWait, TheWaitingRendererDrawsEachFramesOwnWorld) {
+  const std::string url = "udpm://239.255.76.67:7995?ttl=0";
+  if (!lcm::LCM(url).good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  const nlohmann::json at_once = run_application_two(url, "0");
+  const nlohmann::json waiting = run_application_two(url, "40");
+  for (const nlohmann::json* report : {&at_once, &waiting}) {
+    const int captured = (*report)["frames"]["captured"];
+    EXPECT_GE(captured, 150);  // 6 s at 30 FPS
+    EXPECT_GE((*report)["frames"]["rendered"].get<int>(), captured - 3) << "waiting must not cost frames";
+    ASSERT_GE((*report)["registration"]["count"].get<int>(), captured / 2);
+  }
+  const int rendered = waiting["frames"]["rendered"];
+  const int own = waiting["frames"]["rendered_with_own_world_state"];
+  const int own_at_once = at_once["frames"]["rendered_with_own_world_state"];
+  // Two frames within one 10 ms simulator step share the later one's state, so not
+  // every frame has one of its own.
+  EXPECT_GE(own, rendered * 8 / 10) << "of " << rendered;
+  EXPECT_LE(own_at_once, at_once["frames"]["rendered"].get<int>() / 10) << "drawing at once should rarely find it";
+  const double p95_waiting = waiting["registration"]["p95_px"], p95_at_once = at_once["registration"]["p95_px"];
+  const double p50_waiting = waiting["registration"]["p50_px"];
+  std::printf("registration p50 / p95: at once %.2f / %.2f px, waiting %.2f / %.2f px; capture -> overlay p50 %.1f -> "
+              "%.1f ms; own-state frames %d -> %d\n",
+              at_once["registration"]["p50_px"].get<double>(), p95_at_once, p50_waiting, p95_waiting,
+              at_once["stages"]["capture_to_overlay"]["p50_ms"].get<double>(),
+              waiting["stages"]["capture_to_overlay"]["p50_ms"].get<double>(), own_at_once, own);
+  // While the box moves the frame's own state puts it where the frame shows it; an earlier
+  // frame's is a frame's motion behind.
+  EXPECT_LT(p95_waiting, 0.7 * p95_at_once);
+  EXPECT_LT(p50_waiting, 1.0);
+}
+
+}  // namespace
