@@ -75,20 +75,23 @@ renderer() {
 }
 end_to_end() {
   local csv="$out/eval_end_to_end.csv" dir
-  echo "tracker,policy,latency_p50_ms,latency_p95_ms,registration_p50_px,registration_p95_px,frames" > "$csv"
-  for tracker in apriltag aruco; do
-    for policy in delay extrapolate; do
-      dir="$out/e2e_${tracker}_${policy}"
-      ARPHYS_BUILD_DIR="$build" "$root/tools/arphys-launch" "$root/configs/scenes/bunny_box_table.yaml" \
-        --duration "$(n 30 10)" --tracker "$tracker" --tracking-policy "$policy" --out "$dir" > "$dir.log" 2>&1
-      python3 - "$dir/latency.json" "$tracker" "$policy" >> "$csv" <<'PY'
+  echo "tracker,policy,latency_p50_ms,latency_p95_ms,registration_p50_px,registration_p95_px,frames,renderer_wait_ms,own_state_frames" > "$csv"
+  # Each tracker and tracking policy with the renderer drawing at once (an earlier frame's
+  # world state); then libapriltag with the renderer waiting for each frame's own.
+  for run in apriltag:delay:0 apriltag:extrapolate:0 aruco:delay:0 aruco:extrapolate:0 apriltag:delay:40 apriltag:extrapolate:40; do
+    IFS=: read -r tracker policy wait <<< "$run"
+    dir="$out/e2e_${tracker}_${policy}_${wait}"
+    ARPHYS_BUILD_DIR="$build" "$root/tools/arphys-launch" "$root/configs/scenes/bunny_box_table.yaml" \
+      --duration "$(n 30 10)" --tracker "$tracker" --tracking-policy "$policy" --renderer-wait-ms "$wait" \
+      --out "$dir" > "$dir.log" 2>&1
+    python3 - "$dir/latency.json" "$tracker" "$policy" "$wait" >> "$csv" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
-e, g = r["stages"]["capture_to_overlay"], r["registration"]
-print(f'{sys.argv[2]},{sys.argv[3]},{e["p50_ms"]},{e["p95_ms"]},{g["p50_px"]},{g["p95_px"]},{g["count"]}')
+e, g, f = r["stages"]["capture_to_overlay"], r["registration"], r["frames"]
+print(f'{sys.argv[2]},{sys.argv[3]},{e["p50_ms"]},{e["p95_ms"]},{g["p50_px"]},{g["p95_px"]},{g["count"]},{sys.argv[4]},'
+      f'{f["rendered_with_own_world_state"]}')
 PY
-      rm -rf "$dir" "$dir.log"  # the video and logs of each run are not kept
-    done
+    rm -rf "$dir" "$dir.log"  # the video and logs of each run are not kept
   done
 }
 studies() {

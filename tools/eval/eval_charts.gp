@@ -73,7 +73,7 @@ set key off
 set xrange [0:*]
 set yrange [0:*]
 plot dir.'/eval_end_to_end.csv' every ::1 using 3:5:3:4:5:6 with xyerrorbars pt 7 ps 1.4 lc rgb '#0060c0', \
-     '' every ::1 using 3:5:(stringcolumn(1).' / '.stringcolumn(2)) with labels offset 1,1 left font ',9'
+     '' every ::1 using 3:5:(stringcolumn(1).' / '.stringcolumn(2).($8 > 0 ? sprintf(', waits %g ms', $8) : '')) with labels offset 1,1 left font ',9'
 set xrange [*:*]
 set yrange [*:*]
 
