@@ -252,7 +252,7 @@ SceneConfig load_scene_checked(const std::string& path_in) {
     const YAML::Node ph = root["physics"];
     r.only_keys(ph, "physics",
                 {"gravity_m_s2", "time_step_s", "solver", "solver_iterations", "tracking_policy", "contact_gap_m",
-                 "overlap_tolerance_m"});
+                 "overlap_tolerance_m", "sleep_after_s", "sleep_speed_m_s"});
     // Below 0.1 mm: well inside the 1 mm within which contacts are gathered (a gap near
     // that would lose its contacts), and an overlap beyond that is no tolerance.
     for (const auto& [key, field] : {std::pair<const char*, std::optional<double>*>{"contact_gap_m", &scene.contact_gap_m},
@@ -278,6 +278,18 @@ SceneConfig load_scene_checked(const std::string& path_in) {
       if (scene.tracking_policy != "delay" && scene.tracking_policy != "extrapolate")
         r.fail(ph["tracking_policy"], "physics.tracking_policy",
                "got '" + scene.tracking_policy + "', expected 'delay' or 'extrapolate'");
+    }
+    if (ph["sleep_after_s"].IsDefined()) {
+      scene.sleep_after_s = r.number(ph["sleep_after_s"], "physics.sleep_after_s", "a time in seconds (0: never sleep)");
+      if (!(scene.sleep_after_s >= 0) || scene.sleep_after_s > 3600)
+        r.fail(ph["sleep_after_s"], "physics.sleep_after_s",
+               "got " + ph["sleep_after_s"].Scalar() + ", expected 0 (never sleep) to 3600 s");
+    }
+    if (ph["sleep_speed_m_s"].IsDefined()) {
+      scene.sleep_speed_m_s = r.positive(ph["sleep_speed_m_s"], "physics.sleep_speed_m_s", "a positive speed in m/s");
+      if (scene.sleep_speed_m_s > 1)
+        r.fail(ph["sleep_speed_m_s"], "physics.sleep_speed_m_s",
+               "got " + ph["sleep_speed_m_s"].Scalar() + ", expected a speed of at most 1 m/s");
     }
     if (ph["gravity_m_s2"].IsDefined()) scene.gravity_m_s2 = r.vector(ph["gravity_m_s2"], "physics.gravity_m_s2", 3, "m/s^2");
     if (ph["time_step_s"].IsDefined()) {

@@ -100,6 +100,11 @@ struct SceneConfig {
   // (dynamics::WorldOptions; unset: its defaults, 1 um each). A pile that allows 10 um of
   // each steps in 0.6x the time: resting pairs whose motion cannot close the gap are not swept.
   std::optional<double> contact_gap_m, overlap_tolerance_m;
+  // Deactivation (dynamics::WorldOptions::sleep_after_s): a dynamic body whose points move
+  // slower than sleep_speed_m_s for sleep_after_s is held at rest, costing nothing, until
+  // something moving reaches it. 0: never (the default).
+  double sleep_after_s = 0;
+  double sleep_speed_m_s = 0.01;
   // How tracked poses drive kinematic bodies: "delay" (move one frame behind, along
   // the screw between the last two poses: smooth, adds one frame of latency) or
   // "extrapolate" (continue the last twist until the next pose arrives, then correct).

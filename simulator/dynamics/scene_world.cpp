@@ -78,6 +78,8 @@ WorldOptions world_options_of(const config::SceneConfig& scene) {
   options.solver.iterations = scene.solver_iterations;
   if (scene.contact_gap_m) options.contact_gap_m = *scene.contact_gap_m;
   if (scene.overlap_tolerance_m) options.overlap_tolerance_m = *scene.overlap_tolerance_m;
+  options.sleep_after_s = scene.sleep_after_s;
+  options.sleep_speed_m_s = scene.sleep_speed_m_s;
   return options;
 }
 

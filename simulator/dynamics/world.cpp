@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -131,6 +132,9 @@ int World::add_body(RigidBody body) {
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
   radius_m_.push_back(body.bounding_radius_m());
   placed_since_step_.push_back(1);
+  quiet_s_.push_back(0);
+  asleep_.push_back(0);
+  touching_.emplace_back();
   bodies_.push_back(std::move(body));
   return static_cast<int>(bodies_.size()) - 1;
 }
@@ -140,11 +144,31 @@ void World::place_body(int index, const geometry::Pose& X_WB) {
   if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
   body.X_WB = X_WB;
   placed_since_step_.at(index) = 1;
+  wake({index});
+}
+
+void World::wake(std::vector<int> woken) {
+  while (!woken.empty()) {
+    const int i = woken.back();
+    woken.pop_back();
+    quiet_s_[i] = 0;
+    if (!asleep_[i]) continue;
+    asleep_[i] = 0;
+    for (int j : touching_[i])
+      if (asleep_[j]) woken.push_back(j);
+  }
 }
 
 void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);
+  quiet_s_.erase(quiet_s_.begin() + index);
+  asleep_.erase(asleep_.begin() + index);
+  touching_.erase(touching_.begin() + index);
+  for (auto& partners : touching_) {
+    partners.erase(std::remove(partners.begin(), partners.end(), index), partners.end());
+    for (int& j : partners) j -= j > index;
+  }
   contacts_.clear();
   pushed_before_.clear();
   warm_forces_.clear();
@@ -962,13 +986,91 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
   return outcome;
 }
 
+std::vector<int> World::hold_sleepers(double dt_s) {
+  const int n = static_cast<int>(bodies_.size());
+  const double tolerance = options_.contact_tolerance_m;
+  const double fall_m = 0.5 * options_.gravity_m_s2.norm() * dt_s * dt_s;
+  // What can reach a sleeper over the step, and how far (bounding radius included): a
+  // moving kinematic body by its motion (this step's twist) and the contact tolerance; a
+  // moving dynamic body by those and a fall under gravity. A quiet awake body wakes only
+  // the sleepers it touches (it may be pushed into them, which held fixed would squeeze
+  // it); by bounding balls, resting bodies near each other woke each other over and over.
+  std::vector<int> sleepers;
+  std::vector<std::pair<int, double>> reaching;
+  for (int i = 0; i < n; ++i) {
+    const RigidBody& body = bodies_[i];
+    const double speed_m_s = body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
+    if (asleep_[i] && body.is_dynamic() && speed_m_s == 0) {
+      sleepers.push_back(i);
+      continue;
+    }
+    asleep_[i] = 0;  // (a sleeper given a velocity from outside wakes)
+    if (body.motion == BodyMotion::kKinematic && speed_m_s > 0)
+      reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
+    if (body.is_dynamic() && speed_m_s >= options_.sleep_speed_m_s)
+      reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + fall_m + tolerance);
+  }
+  // The sleepers a moving body reaches (bounding balls), and in turn those they touched.
+  std::vector<int> woken;
+  for (const Contact& c : contacts_)  // (the last step's)
+    for (const auto& [awake, other] : {std::pair(c.body_a, c.body_b), std::pair(c.body_b, c.body_a)})
+      if (bodies_[awake].is_dynamic() && !asleep_[awake] && asleep_[other]) woken.push_back(other);
+  if (!reaching.empty() && !sleepers.empty()) {
+    std::vector<Eigen::AlignedBox3d> boxes;
+    for (const auto& [i, reach_m] : reaching) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), reach_m));
+    for (int i : sleepers) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i]));
+    const int r = static_cast<int>(reaching.size());
+    for (const auto& [p, q] : collision::overlapping_pairs(boxes))
+      if ((p < r) != (q < r)) woken.push_back(sleepers[std::max(p, q) - r]);
+  }
+  wake(std::move(woken));
+  sleepers.erase(std::remove_if(sleepers.begin(), sleepers.end(), [&](int i) { return !asleep_[i]; }), sleepers.end());
+  for (int i : sleepers) bodies_[i].motion = BodyMotion::kStatic;
+  return sleepers;
+}
+
+void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report) {
+  for (int i : held) bodies_[i].motion = BodyMotion::kDynamic;
+  const int n = static_cast<int>(bodies_.size());
+  const auto awake = [&](int i) { return bodies_[i].is_dynamic() && !asleep_[i]; };
+  for (int i = 0; i < n; ++i) {
+    if (!awake(i)) continue;
+    const RigidBody& body = bodies_[i];
+    const double point_speed_m_s = body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
+    // (Counted in steps' worth of time: fifty 10 ms steps add up to just under 0.5 s.)
+    quiet_s_[i] = point_speed_m_s < options_.sleep_speed_m_s ? quiet_s_[i] + dt_s * (1 + 1e-9) : 0.0;
+  }
+  // Bodies in contact fall asleep together, once the last of them has been quiet long
+  // enough: a body asleep against an awake one would be woken by it at once.
+  DisjointSets islands(n);
+  for (const Contact& c : contacts_)
+    if (awake(c.body_a) && awake(c.body_b)) islands.join(c.body_a, c.body_b);
+  std::vector<double> least_quiet_s(n, std::numeric_limits<double>::infinity());
+  for (int i = 0; i < n; ++i)
+    if (awake(i)) least_quiet_s[islands.find(i)] = std::min(least_quiet_s[islands.find(i)], quiet_s_[i]);
+  for (int i = 0; i < n; ++i) {
+    if (!awake(i) || least_quiet_s[islands.find(i)] < options_.sleep_after_s) continue;
+    asleep_[i] = 1;
+    bodies_[i].v_WC_m_s.setZero();
+    bodies_[i].w_W_rad_s.setZero();
+    touching_[i].clear();
+    for (const Contact& c : contacts_) {
+      const int other = c.body_a == i ? c.body_b : (c.body_b == i ? c.body_a : -1);
+      if (other >= 0 && bodies_[other].is_dynamic()) touching_[i].push_back(other);
+    }
+  }
+  report.bodies_asleep = static_cast<int>(std::count(asleep_.begin(), asleep_.end(), 1));
+}
+
 StepReport World::step(double dt_s) {
   if (!(dt_s > 0) || !std::isfinite(dt_s)) throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
   StepReport report;
   const int n = static_cast<int>(bodies_.size());
   std::vector<int> everyone(n), fixed, dynamic;
+  std::iota(everyone.begin(), everyone.end(), 0);
+  set_kinematic_state(everyone, time_s_, dt_s);
+  const std::vector<int> held = options_.sleep_after_s > 0 ? hold_sleepers(dt_s) : std::vector<int>();
   for (int i = 0; i < n; ++i) {
-    everyone[i] = i;
     (bodies_[i].is_dynamic() ? dynamic : fixed).push_back(i);
   }
   // The step's first solve, for everything at once.
@@ -981,7 +1083,6 @@ StepReport World::step(double dt_s) {
       ++it;
     }
   }
-  set_kinematic_state(everyone, time_s_, dt_s);
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
   SolvedIslands islands_at_start;
@@ -1130,6 +1231,7 @@ StepReport World::step(double dt_s) {
     std::sort(warm_forces_.begin(), warm_forces_.end(),
               [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
   }
+  if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);

@@ -69,6 +69,13 @@ struct WorldOptions {
   // closest point per normal direction, then the extremes of each contact patch, which
   // keep its support polygon; see manifold_reduction.hpp).
   int max_contacts_per_pair = 16;
+  // Deactivation ("sleeping"): a dynamic body whose points have all moved slower than
+  // sleep_speed_m_s for sleep_after_s is stopped and held as if fixed, costing nothing,
+  // until a moving body comes within reach of it over a step; that wakes it and, in turn,
+  // the sleepers it touched when it fell asleep. 0: never (the default: the
+  // benchmark scenes measure every body every step). A woken body starts from rest.
+  double sleep_after_s = 0;
+  double sleep_speed_m_s = 0.01;
   ContactSolverOptions solver;
   // CCD settings; its work budget bounds a step's cost when meshes have sunk into each
   // other (the step is then cut where the CCD stopped, never past a contact).
@@ -112,6 +119,7 @@ struct StepReport {
   int solver_iterations = 0;
   int launches_prevented = 0;   // bodies the launch guard held back (a solver failure, reported)
   int ccd_queries = 0;          // pair motions swept by the CCD (resting pairs are checked at the end instead)
+  int bodies_asleep = 0;        // after the step (WorldOptions::sleep_after_s)
 };
 
 // A meeting the CCD found inside a step: the point, fixed in each body, and A's normal
@@ -139,6 +147,7 @@ class World {
 
   double time_s() const { return time_s_; }
   const std::vector<RigidBody>& bodies() const { return bodies_; }
+  bool asleep(int index) const { return asleep_.at(index) != 0; }
   RigidBody& body(int index) { return bodies_.at(index); }
   // Moves a body to a pose (not along a motion: nothing is swept), as add_body places
   // one: its next step tests its pairs for crossing deeper than the contact tolerance
@@ -284,10 +293,21 @@ class World {
   // Kinematic participants to their trajectory pose at t_s, moving as they will over
   // the next h_s (h_s = 0: their instantaneous twist).
   void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);
+  // Wakes the sleepers a moving body can reach over dt_s (in turn, the sleepers they
+  // touched when they fell asleep), and holds the others fixed for the step (their motion made static);
+  // returns those, for end_sleep_step to restore and to put more bodies to sleep.
+  std::vector<int> hold_sleepers(double dt_s);
+  void end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report);
+  // Wakes these bodies (their quiet time restarts) and, in turn, the sleepers they touched.
+  void wake(std::vector<int> bodies);
 
   WorldOptions options_;
   std::vector<RigidBody> bodies_;
   std::vector<double> radius_m_;  // bounding radius about each body origin
+  // Sleeping (WorldOptions::sleep_after_s): how long each body has been quiet, and whether it sleeps.
+  std::vector<double> quiet_s_;
+  std::vector<char> asleep_;
+  std::vector<std::vector<int>> touching_;  // a sleeper's dynamic contact partners when it fell asleep
   std::vector<Contact> contacts_;
   // Where each pair pushed in the previous step (contacts_ with an impulse), sorted by pair.
   struct PushedPoint {

@@ -197,6 +197,28 @@ TEST_F(BadScene, ContactGapAndOverlapToleranceArePositiveLengthsBelowATenthOfAMi
   EXPECT_NE(error.find("physics.overlap_tolerance_m"), std::string::npos) << error;
 }
 
+TEST_F(BadScene, SleepingTimesAndSpeedsAreChecked) {
+  const std::string ball = "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n";
+  std::string error = load_error(ball, "physics: {sleep_after_s: -1}\n");
+  EXPECT_NE(error.find("physics.sleep_after_s: got -1, expected 0 (never sleep) to 3600 s"), std::string::npos) << error;
+  error = load_error(ball, "physics: {sleep_after_s: soon}\n");
+  EXPECT_NE(error.find("physics.sleep_after_s"), std::string::npos) << error;
+  error = load_error(ball, "physics: {sleep_speed_m_s: 0}\n");
+  EXPECT_NE(error.find("physics.sleep_speed_m_s"), std::string::npos) << error;
+  error = load_error(ball, "physics: {sleep_speed_m_s: 3}\n");
+  EXPECT_NE(error.find("expected a speed of at most 1 m/s"), std::string::npos) << error;
+}
+
+TEST(SceneConfig, SleepingIsOffUnlessAsked) {
+  EXPECT_EQ(load_scene(kConfigs + "scenes/drop100.yaml").sleep_after_s, 0.0);
+  const std::string path = ::testing::TempDir() + "sleep_scene.yaml";
+  std::ofstream(path) << "name: sleepy\nphysics: {sleep_after_s: 0.5, sleep_speed_m_s: 0.02}\nobjects:\n"
+                         "  - {id: floor, role: real, motion: static, collision: {shape: plane}}\n";
+  const SceneConfig scene = load_scene(path);
+  EXPECT_DOUBLE_EQ(scene.sleep_after_s, 0.5);
+  EXPECT_DOUBLE_EQ(scene.sleep_speed_m_s, 0.02);
+}
+
 TEST(SceneConfig, ContactGapAndOverlapToleranceAreReadWhenGiven) {
   EXPECT_FALSE(load_scene(kConfigs + "scenes/drop100.yaml").contact_gap_m);  // the world's defaults
   const std::string path = ::testing::TempDir() + "gap_scene.yaml";

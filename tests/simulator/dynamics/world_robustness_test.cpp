@@ -8,28 +8,15 @@
 #include "simulator/dynamics/scene_world.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
+#include "tests/simulator/dynamics/test_bodies.hpp"
 
 namespace arphys::dynamics {
 namespace {
 
 using geometry::Pose;
 
-RigidBody plane_body() {
-  RigidBody b;
-  b.id = "floor";
-  b.motion = BodyMotion::kStatic;
-  b.shape = collision::Shape::plane();
-  return b;
-}
-
-RigidBody cube(const std::string& id, const Eigen::Vector3d& p, double side = 0.2) {
-  RigidBody b;
-  b.id = id;
-  b.shape = collision::Shape::box(Eigen::Vector3d::Constant(side));
-  b.mass = geometry::with_mass(geometry::box_mass_properties(Eigen::Vector3d::Constant(side), 1000), 1.0);
-  b.X_WB = geometry::translation_pose(p);
-  return b;
-}
+using testing::cube;
+using testing::plane_body;
 
 TEST(WorldRobustness, BadBodiesAreRejectedByName) {
   World world;

@@ -1,0 +1,145 @@
+// Deactivation (WorldOptions::sleep_after_s): bodies at rest stop costing anything, and
+// wake when something moving reaches them.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "simulator/collision/shape_query.hpp"
+#include "simulator/dynamics/world.hpp"
+#include "tests/simulator/dynamics/test_bodies.hpp"
+
+namespace arphys::dynamics {
+namespace {
+
+using testing::cube;
+using testing::plane_body;
+
+WorldOptions sleepy() {
+  WorldOptions options;
+  options.sleep_after_s = 0.2;
+  return options;
+}
+
+// The deepest two bodies overlap at their current poses (0: apart or touching).
+double overlap_m(const World& world, int a, int b) {
+  double deepest = 0;
+  const auto& A = world.bodies()[a];
+  const auto& B = world.bodies()[b];
+  for (const auto& point : collision::contact_manifold(A.shape, A.X_WB, B.shape, B.X_WB, 0.0))
+    deepest = std::max(deepest, -point.distance_m);
+  return deepest;
+}
+
+TEST(Sleeping, ABoxAtRestFallsAsleepAndCostsNothing) {
+  World world(sleepy());
+  world.add_body(plane_body());
+  const int box = world.add_body(cube("box", {0, 0, 0.15}));  // 5 cm above the floor
+  StepReport report;
+  int steps_to_sleep = 0;
+  for (; steps_to_sleep < 1000 && !world.asleep(box); ++steps_to_sleep) report = world.step(0.01);
+  ASSERT_TRUE(world.asleep(box));
+  // It fell 5 cm (0.1 s), settled, and slept 0.2 s after it last moved.
+  EXPECT_GT(steps_to_sleep, 25);
+  EXPECT_LT(steps_to_sleep, 45);
+  EXPECT_EQ(report.bodies_asleep, 1);
+  const geometry::Pose X_asleep = world.bodies()[box].X_WB;
+  for (int k = 0; k < 100; ++k) {
+    report = world.step(0.01);
+    EXPECT_EQ(report.contacts, 0) << "a sleeper's contacts are not gathered or solved";
+    EXPECT_EQ(report.ccd_queries, 0);
+  }
+  EXPECT_TRUE(world.asleep(box));
+  EXPECT_TRUE(world.bodies()[box].X_WB.matrix() == X_asleep.matrix()) << "a sleeper does not creep";
+  EXPECT_TRUE(world.bodies()[box].v_WC_m_s.isZero());
+  EXPECT_NEAR(world.bodies()[box].X_WB.translation().z(), 0.1, 2e-6);
+}
+
+TEST(Sleeping, WithoutTheOptionNothingSleeps) {
+  World world;
+  world.add_body(plane_body());
+  const int box = world.add_body(cube("box", {0, 0, 0.1 + 1e-6}));
+  StepReport report;
+  for (int k = 0; k < 200; ++k) report = world.step(0.01);
+  EXPECT_FALSE(world.asleep(box));
+  EXPECT_EQ(report.bodies_asleep, 0);
+  EXPECT_GT(report.contacts, 0);
+}
+
+// A tracked box moving at 0.5 m/s reaches a sleeping box: it wakes in time to be pushed,
+// never overlapped, and moves off at the pusher's speed.
+TEST(Sleeping, AMovingTrackedBodyWakesASleeperInTimeToPushIt) {
+  WorldOptions options = sleepy();
+  World world(options);
+  world.add_body(plane_body());
+  const int target = world.add_body(cube("target", {0, 0, 0.1 + 1e-6}));
+  RigidBody pusher = cube("pusher", {-0.5, 0, 0.1 + 1e-6});
+  pusher.motion = BodyMotion::kKinematic;
+  pusher.trajectory.add(0.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));
+  pusher.trajectory.add(1.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));  // still for 1 s
+  pusher.trajectory.add(2.0, geometry::translation_pose({0.0, 0, 0.1 + 1e-6}));   // then 0.5 m/s
+  pusher.trajectory.add(2.4, geometry::translation_pose({0.2, 0, 0.1 + 1e-6}));
+  const int p = world.add_body(pusher);
+  double deepest = 0;
+  bool slept = false;
+  for (int k = 0; k < 240; ++k) {
+    world.step(0.01);
+    slept |= world.asleep(target);
+    deepest = std::max(deepest, overlap_m(world, p, target));
+    if (k == 90) {
+      EXPECT_TRUE(world.asleep(target)) << "asleep while the pusher stands still";
+    }
+  }
+  EXPECT_TRUE(slept);
+  EXPECT_FALSE(world.asleep(target));
+  EXPECT_LE(deepest, options.overlap_tolerance_m);
+  // Pushed from x = 0 by the pusher's face (which ends at x = 0.2 - 0.1 = 0.1).
+  EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.19);
+  EXPECT_NEAR(world.bodies()[target].v_WC_m_s.x(), 0.5, 0.05);
+}
+
+// A box dropped onto a sleeping stack wakes the box it lands on, and that one the box
+// it rests on: the stack takes the blow together, nothing overlaps, and it sleeps again.
+TEST(Sleeping, ABodyLandingOnASleepingStackWakesItThroughItsContacts) {
+  WorldOptions options = sleepy();
+  World world(options);
+  world.add_body(plane_body());
+  const int bottom = world.add_body(cube("bottom", {0, 0, 0.1 + 1e-6}));
+  const int top = world.add_body(cube("top", {0, 0, 0.3 + 2e-6}));
+  for (int k = 0; k < 60; ++k) world.step(0.01);
+  ASSERT_TRUE(world.asleep(bottom) && world.asleep(top));
+  // Far above the stack's reach, then landing on it at about 2 m/s.
+  RigidBody dropped = cube("dropped", {0, 0, 0.7});
+  const int d = world.add_body(dropped);
+  bool bottom_woke = false;
+  double deepest = 0;
+  for (int k = 0; k < 150; ++k) {
+    world.step(0.01);
+    bottom_woke |= !world.asleep(bottom);
+    deepest = std::max({deepest, overlap_m(world, d, top), overlap_m(world, top, bottom), overlap_m(world, 0, bottom)});
+  }
+  EXPECT_TRUE(bottom_woke);
+  EXPECT_LE(deepest, options.overlap_tolerance_m);
+  EXPECT_TRUE(world.asleep(bottom) && world.asleep(top) && world.asleep(d)) << "asleep again once all three rest";
+  EXPECT_GT(world.bodies()[d].X_WB.translation().z(), 0.49);  // on top of the stack
+}
+
+// Removing a body renumbers the others: the sleepers' contact partners follow, so the
+// chain still wakes the right bodies.
+TEST(Sleeping, RemovingABodyKeepsTheSleepersPartnersRight) {
+  World world(sleepy());
+  const int loose = world.add_body(cube("loose", {3, 0, 0.1 + 1e-6}));  // index 0, removed below
+  world.add_body(plane_body());
+  world.add_body(cube("bottom", {0, 0, 0.1 + 1e-6}));
+  world.add_body(cube("top", {0, 0, 0.3 + 2e-6}));
+  for (int k = 0; k < 60; ++k) world.step(0.01);
+  world.remove_body(loose);
+  const int bottom = world.find("bottom"), top = world.find("top");
+  ASSERT_TRUE(world.asleep(bottom) && world.asleep(top));
+  // Placing the top box (as crash recovery does) wakes it, and the bottom box it touches.
+  world.place_body(top, world.bodies()[top].X_WB);
+  EXPECT_FALSE(world.asleep(top));
+  EXPECT_FALSE(world.asleep(bottom)) << "woken through the top box's contact";
+}
+
+}  // namespace
+}  // namespace arphys::dynamics
