@@ -986,6 +986,11 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
   return outcome;
 }
 
+double World::point_speed_m_s(int i) const {
+  const RigidBody& body = bodies_[i];
+  return body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
+}
+
 std::vector<int> World::hold_sleepers(double dt_s) {
   const int n = static_cast<int>(bodies_.size());
   const double tolerance = options_.contact_tolerance_m;
@@ -999,7 +1004,7 @@ std::vector<int> World::hold_sleepers(double dt_s) {
   std::vector<std::pair<int, double>> reaching;
   for (int i = 0; i < n; ++i) {
     const RigidBody& body = bodies_[i];
-    const double speed_m_s = body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
+    const double speed_m_s = point_speed_m_s(i);
     if (asleep_[i] && body.is_dynamic() && speed_m_s == 0) {
       sleepers.push_back(i);
       continue;
@@ -1035,10 +1040,8 @@ void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport
   const auto awake = [&](int i) { return bodies_[i].is_dynamic() && !asleep_[i]; };
   for (int i = 0; i < n; ++i) {
     if (!awake(i)) continue;
-    const RigidBody& body = bodies_[i];
-    const double point_speed_m_s = body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
     // (Counted in steps' worth of time: fifty 10 ms steps add up to just under 0.5 s.)
-    quiet_s_[i] = point_speed_m_s < options_.sleep_speed_m_s ? quiet_s_[i] + dt_s * (1 + 1e-9) : 0.0;
+    quiet_s_[i] = point_speed_m_s(i) < options_.sleep_speed_m_s ? quiet_s_[i] + dt_s * (1 + 1e-9) : 0.0;
   }
   // Bodies in contact fall asleep together, once the last of them has been quiet long
   // enough: a body asleep against an awake one would be woken by it at once.
@@ -1070,6 +1073,14 @@ StepReport World::step(double dt_s) {
   std::iota(everyone.begin(), everyone.end(), 0);
   set_kinematic_state(everyone, time_s_, dt_s);
   const std::vector<int> held = options_.sleep_after_s > 0 ? hold_sleepers(dt_s) : std::vector<int>();
+  // (Should anything below throw, the sleepers are not left static.)
+  struct Release {
+    std::vector<RigidBody>& bodies;
+    const std::vector<int>& held;
+    ~Release() {
+      for (int i : held) bodies[i].motion = BodyMotion::kDynamic;
+    }
+  } release{bodies_, held};
   for (int i = 0; i < n; ++i) {
     (bodies_[i].is_dynamic() ? dynamic : fixed).push_back(i);
   }

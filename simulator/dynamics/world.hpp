@@ -300,6 +300,8 @@ class World {
   void end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report);
   // Wakes these bodies (their quiet time restarts) and, in turn, the sleepers they touched.
   void wake(std::vector<int> bodies);
+  // |v| + |w| r: a bound on how fast any point of the body moves (r its bounding radius).
+  double point_speed_m_s(int index) const;
 
   WorldOptions options_;
   std::vector<RigidBody> bodies_;
