@@ -278,6 +278,7 @@ int main(int argc, char** argv) {
       status.published = published;
       status.rejected += core->rejected_total();
       msg::add_figure(status, "bodies_left_world", static_cast<double>(core->bodies_left_world()));
+      if (scene.sleep_after_s > 0) msg::add_figure(status, "bodies_asleep", core->last_report().bodies_asleep);
       if (!state_file.empty()) {
         msg::add_figure(status, "resumed_bodies", recovery.recovered);
         msg::add_figure(status, "bodies_not_resumed", static_cast<double>(recovery.lost.size()));
