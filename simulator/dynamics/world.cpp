@@ -419,12 +419,11 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
   std::vector<ContactRow> rows;
   rows.reserve(solved.size());
   rows.insert(rows.end(), setup.resting_rows.begin(), setup.resting_rows.end());
-  double deepest = setup.deepest_m;
-  for (const Contact& c : meeting) {
-    rows.push_back(row_of(c, setup, participants));
-    deepest = std::max(deepest, -c.feature.distance_m);
-  }
-  report.max_penetration_m = std::max(report.max_penetration_m, deepest);
+  for (const Contact& c : meeting) rows.push_back(row_of(c, setup, participants));
+  // The resting contacts' overlaps only: a meeting's material points, taken at the start
+  // poses, say how they will meet, not that they overlap (a turning pair's can be half a
+  // millimetre "deep" there while nothing overlaps at any time).
+  report.max_penetration_m = std::max(report.max_penetration_m, setup.deepest_m);
   const std::vector<BodyVelocity>& u_unconstrained = setup.u_unconstrained;
   const std::vector<int>& slot_of_unknown = setup.slot_of_unknown;
   const ContactSolveResult result = solve_contacts(setup.inertia, u, rows, options_.solver, memo, &setup.body_of_unknown);

@@ -115,7 +115,11 @@ struct StepReport {
   bool infeasible = false;      // a body squeezed between non-dynamic ones
   int iterative_islands = 0;    // contact islands too large for the exact solver (max_exact_rows)
   double kkt_residual_m_s = 0;  // worst over the step's solves
-  double max_penetration_m = 0; // deepest overlap among the contacts (0: none)
+  // Deepest overlap among the step's resting contacts where they were gathered: the step's
+  // start and each cut (0: none). A cut can catch a resting pair, checked only at the end
+  // of its motion, tens of micrometres inside mid-step; every step ends within the overlap
+  // tolerance (and its allowed creep).
+  double max_penetration_m = 0;
   int solver_iterations = 0;
   int launches_prevented = 0;   // bodies the launch guard held back (a solver failure, reported)
   int ccd_queries = 0;          // pair motions swept by the CCD (resting pairs are checked at the end instead)
