@@ -253,6 +253,15 @@ int main(int argc, char** argv) {
   std::chrono::steady_clock::time_point pending_arrival;
   BadInput bad;
   int64_t frames_dropped = 0, past_the_wait = 0;
+  // How long the pending frame may still wait for its own world state (ms; 0: draw it now).
+  const auto wait_left_ms = [&]() -> double {
+    if (!pending || wait_ms <= 0 || policy == MatchPolicy::kLatest || states.has_reached(pending->utime)) return 0;
+    return wait_ms - std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pending_arrival).count();
+  };
+  // Counts a frame drawn without its own world state though it could have waited for it.
+  const auto waited_in_vain = [&](const arphys::image_t& frame) {
+    if (wait_ms > 0 && policy != MatchPolicy::kLatest && !states.has_reached(frame.utime)) ++past_the_wait;
+  };
   bus->subscribe<arphys::world_state_t>(scene.channels.world_state,
                                         [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&, const std::string&) {
                                           states.add(m.utime, m);
@@ -266,7 +275,7 @@ int main(int argc, char** argv) {
                                   [&](const arphys::image_t& m, const lcm::ReceiveBuffer&, const std::string&) {
                                     // Keep the newest: latency over completeness. A frame held by the
                                     // wait is drawn, not dropped, unless one is already due.
-                                    if (pending && wait_ms > 0 && !superseded) {
+                                    if (pending && wait_left_ms() > 0 && !superseded) {
                                       superseded = std::move(pending);
                                     } else if (pending) {
                                       ++frames_dropped;
@@ -304,11 +313,6 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "renderer: scene %s, camera %s (%dx%d), match %s, wait %.0f ms, %s, LCM %s\n", scene.name.c_str(),
                camera_path.c_str(), projection.width_px, projection.height_px, to_string(policy), wait_ms,
                renderer->describe().c_str(), bus->url().c_str());
-  // How long the pending frame may still wait for its own world state (ms; 0: draw it now).
-  const auto wait_left_ms = [&]() -> double {
-    if (!pending || wait_ms <= 0 || policy == MatchPolicy::kLatest || states.has_reached(pending->utime)) return 0;
-    return wait_ms - std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - pending_arrival).count();
-  };
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start;
   int64_t rendered = 0, rendered_since_status = 0, published = 0, without_world = 0;
@@ -422,9 +426,6 @@ int main(int argc, char** argv) {
     bus->handle_timeout_ms(waiting_ms > 0 ? std::clamp(static_cast<int>(std::ceil(waiting_ms)), 1, 20) : 20);
     bus->handle_pending();
     const bool hold = pending && wait_left_ms() > 0;
-    const auto waited_in_vain = [&](const arphys::image_t& frame) {
-      if (wait_ms > 0 && policy != MatchPolicy::kLatest && !states.has_reached(frame.utime)) ++past_the_wait;
-    };
     if (superseded) {
       // Held for its own world state when a newer frame came: drawn now with what there is.
       const arphys::image_t message = std::move(*superseded);

@@ -999,7 +999,7 @@ std::vector<int> World::hold_sleepers(double dt_s) {
   // moving dynamic body by those and a fall under gravity. A quiet awake body wakes only
   // the sleepers it touches (it may be pushed into them, which held fixed would squeeze
   // it); by bounding balls, resting bodies near each other woke each other over and over.
-  std::vector<int> sleepers;
+  std::vector<int> sleepers, woken;
   std::vector<std::pair<int, double>> reaching;
   for (int i = 0; i < n; ++i) {
     const RigidBody& body = bodies_[i];
@@ -1008,14 +1008,13 @@ std::vector<int> World::hold_sleepers(double dt_s) {
       sleepers.push_back(i);
       continue;
     }
-    asleep_[i] = 0;  // (a sleeper given a velocity from outside wakes)
+    if (asleep_[i]) woken.push_back(i);  // (a sleeper given a velocity from outside)
     if (body.motion == BodyMotion::kKinematic && speed_m_s > 0)
       reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
     if (body.is_dynamic() && speed_m_s >= options_.sleep_speed_m_s)
       reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + fall_m + tolerance);
   }
   // The sleepers a moving body reaches (bounding balls), and in turn those they touched.
-  std::vector<int> woken;
   for (const Contact& c : contacts_)  // (the last step's)
     for (const auto& [awake, other] : {std::pair(c.body_a, c.body_b), std::pair(c.body_b, c.body_a)})
       if (bodies_[awake].is_dynamic() && !asleep_[awake] && asleep_[other]) woken.push_back(other);
@@ -1050,17 +1049,20 @@ void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport
   std::vector<double> least_quiet_s(n, std::numeric_limits<double>::infinity());
   for (int i = 0; i < n; ++i)
     if (awake(i)) least_quiet_s[islands.find(i)] = std::min(least_quiet_s[islands.find(i)], quiet_s_[i]);
+  std::vector<char> falling_asleep(n, 0);
   for (int i = 0; i < n; ++i) {
     if (!awake(i) || least_quiet_s[islands.find(i)] < options_.sleep_after_s) continue;
-    asleep_[i] = 1;
+    falling_asleep[i] = 1;
     bodies_[i].v_WC_m_s.setZero();
     bodies_[i].w_W_rad_s.setZero();
     touching_[i].clear();
-    for (const Contact& c : contacts_) {
-      const int other = c.body_a == i ? c.body_b : (c.body_b == i ? c.body_a : -1);
-      if (other >= 0 && bodies_[other].is_dynamic()) touching_[i].push_back(other);
-    }
   }
+  for (const Contact& c : contacts_) {
+    if (!bodies_[c.body_a].is_dynamic() || !bodies_[c.body_b].is_dynamic()) continue;
+    if (falling_asleep[c.body_a]) touching_[c.body_a].push_back(c.body_b);
+    if (falling_asleep[c.body_b]) touching_[c.body_b].push_back(c.body_a);
+  }
+  for (int i = 0; i < n; ++i) asleep_[i] |= falling_asleep[i];
   report.bodies_asleep = static_cast<int>(std::count(asleep_.begin(), asleep_.end(), 1));
 }
 

@@ -9,13 +9,12 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
-#include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "lcm/lcm-cpp.hpp"
+#include "tests/support/launch_report.hpp"
 #include "tests/support/read_file.hpp"
-#include "tests/support/run_command.hpp"
 
 namespace {
 
@@ -41,14 +40,8 @@ nlohmann::json run_application_two(const std::string& dir, const std::string& ur
   std::string script = read_file(configs + "/synthetic/box_push.yaml");
   script = std::regex_replace(script, std::regex(R"(scene: \.\./scenes/bunny_box_table\.yaml)"), "scene: " + dir + "/scene.yaml");
   write(dir + "/script.yaml", script);
-  const std::string out = dir + "/out";
-  const std::string command = std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR +
-                              "/tools/arphys-launch " + dir + "/scene.yaml --script " + dir +
-                              "/script.yaml --duration 6 --lcm-url " + url + " --out " + out;
-  const arphys::testing::CommandRun run = arphys::testing::run_command(command);
-  EXPECT_EQ(run.exit_code, 0) << run.out;
-  nlohmann::json report;
-  std::ifstream(out + "/latency.json") >> report;
+  const nlohmann::json report = arphys::testing::launch_report(
+      dir + "/scene.yaml --script " + dir + "/script.yaml --duration 6 --lcm-url " + url, dir + "/out");
   std::filesystem::remove_all(dir);
   return report;
 }

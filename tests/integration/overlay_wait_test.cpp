@@ -4,29 +4,19 @@
 // the overlay draws the box where the frame shows it, also while it moves.
 #include <gtest/gtest.h>
 
-#include <filesystem>
-#include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "lcm/lcm-cpp.hpp"
-#include "tests/support/run_command.hpp"
+#include "tests/support/launch_report.hpp"
 
 namespace {
 
 // The launcher's report of 6 s of application 2.
 nlohmann::json run_application_two(const std::string& url, const std::string& wait_ms) {
-  const std::string out = ::testing::TempDir() + "overlay_wait_test";
-  std::filesystem::remove_all(out);
-  const auto run = arphys::testing::run_command(
-      std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR + "/tools/arphys-launch " +
-      ARPHYS_SOURCE_DIR + "/configs/scenes/bunny_box_table.yaml --duration 6 --tracking-policy extrapolate " +
-      "--renderer-wait-ms " + wait_ms + " --lcm-url " + url + " --out " + out);
-  EXPECT_EQ(run.exit_code, 0) << run.out;
-  nlohmann::json report;
-  std::ifstream(out + "/latency.json") >> report;
-  std::filesystem::remove_all(out);
-  return report;
+  return arphys::testing::launch_report(std::string(ARPHYS_SOURCE_DIR) +
+                                            "/configs/scenes/bunny_box_table.yaml --duration 6 --tracking-policy "
+                                            "extrapolate --renderer-wait-ms " + wait_ms + " --lcm-url " + url,
+                                        ::testing::TempDir() + "overlay_wait_test");
 }
 
 TEST(OverlayWait, TheWaitingRendererDrawsEachFramesOwnWorld) {

@@ -356,8 +356,7 @@ void run_anchor_pile(const std::vector<std::string>& all, Csv& csv) {
   std::printf("\n== pile as the anchor ran it: N = 1000, dt 1 ms, 2 s, mean ms per step (= wall s per simulated s)\n"
               "%-18s %5s %10s %10s %16s %14s %12s\n", "engine", "mu", "mean_ms", "median_ms", "max_pen_mm",
               "box_overlap_mm", "simulated_s");
-  std::map<double, double> quick_mean;
-  std::vector<std::pair<std::string, std::pair<double, double>>> ours;  // engine, (mu, mean)
+  std::map<std::pair<std::string, double>, double> mean_ms;  // by (engine, mu)
   for (double mu : {0.0, 0.5})
     for (const std::string& e : all) {
       if (e != "arphys" && e != "arphys-10um" && e != "ode-quick" && e != "bullet") continue;
@@ -371,13 +370,13 @@ void run_anchor_pile(const std::vector<std::string>& all, Csv& csv) {
       csv.out << e << "," << mu << "," << r.mean_ms << "," << r.median_ms << "," << 1e3 * r.deepest_m << ","
               << 1e3 * r.overlap_m << "," << r.done * 1e-3 << "\n";
       std::fflush(stdout);
-      if (e == "ode-quick") quick_mean[mu] = r.mean_ms;
-      if (e.rfind("arphys", 0) == 0) ours.push_back({e, {mu, r.mean_ms}});
+      mean_ms[{e, mu}] = r.mean_ms;
     }
-  for (const auto& [engine, mu_mean] : ours)
-    if (quick_mean.count(mu_mean.first))
-      std::printf("%s / ode-quick, mu %.1f: %.1fx (mean ms per step)\n", engine.c_str(), mu_mean.first,
-                  mu_mean.second / quick_mean[mu_mean.first]);
+  for (const auto& [key, ms] : mean_ms) {
+    const auto quick = mean_ms.find({"ode-quick", key.second});
+    if (key.first.rfind("arphys", 0) != 0 || quick == mean_ms.end()) continue;
+    std::printf("%s / ode-quick, mu %.1f: %.1fx (mean ms per step)\n", key.first.c_str(), key.second, ms / quick->second);
+  }
 }
 
 // Pairs whose surfaces cross at their current poses: two meshes (bunnies), and a mesh
