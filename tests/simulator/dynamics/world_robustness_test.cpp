@@ -325,12 +325,13 @@ TEST(WorldRobustness, ASphereLandingOnAPlaneIsConstrainedInTheStep) {
 
 // A resting pair moving slowly relative to each other is held by its contacts and
 // checked at the end of its motion, not swept by the CCD (whose search on surfaces 1 um
-// apart was most of a 1000-box pile's step); a pair in contact closing faster than the
-// contact tolerance per step is still swept.
+// apart was most of a 1000-box pile's step); a pair in contact closing faster than
+// resting_unswept_motion_m per step is still swept, and so is one that could pass
+// through a thin body unseen or should bounce.
 TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
-  World world;
   RigidBody base = cube("base", {0, 0, 0.1});
   base.motion = BodyMotion::kStatic;
+  World world;
   world.add_body(base);
   const double gap = world.options().contact_gap_m;
   const int top = world.add_body(cube("top", {0, 0, 0.3 + gap}));
@@ -343,12 +344,31 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
   EXPECT_GE(b.X_WB.translation().z(), 0.3 - world.options().overlap_tolerance_m);
   EXPECT_LE(b.X_WB.translation().z(), 0.3 + 2 * gap);
 
-  // Sliding at 2 m/s: in contact, but moving 2 mm per step, more than the contact tolerance.
-  World fast;
-  fast.add_body(base);
-  const int slider = fast.add_body(cube("top", {0, 0, 0.3 + gap}));
-  fast.body(slider).v_WC_m_s = {2, 0, 0};
-  EXPECT_GE(fast.step(1e-3).ccd_queries, 1);
+  // One step of a box sliding over `under` (its top at z = 0.2) at speed_m_s; the CCD queries it took.
+  const auto sweeps = [&](const RigidBody& under, double speed_m_s, double restitution = 0) {
+    WorldOptions options;
+    options.resting_unswept_motion_m = 10e-3;
+    World w(options);
+    w.add_body(under);
+    RigidBody slider = cube("slider", {0, 0, 0.3 + gap});
+    slider.restitution = restitution;
+    slider.v_WC_m_s = {speed_m_s, 0, 0};
+    w.add_body(slider);
+    return w.step(1e-3).ccd_queries;
+  };
+  // 5 mm per step over a 0.2 m box: held and checked at the end; 15 mm: swept.
+  EXPECT_EQ(sweeps(base, 5), 0);
+  EXPECT_GE(sweeps(base, 15), 1);
+  // Over a 4 mm slab, 5 mm per step could carry a point through it between the ends:
+  // swept (the bound is capped at a quarter of the thinner body's thickness, 1 mm).
+  RigidBody slab = base;
+  slab.shape = collision::Shape::box({0.4, 0.4, 0.004});
+  slab.X_WB = geometry::translation_pose({0, 0, 0.198});
+  EXPECT_GE(sweeps(slab, 5), 1);
+  EXPECT_EQ(sweeps(slab, 0.5), 0);
+  // A bouncing pair keeps the contact tolerance: what the end check finds is held, not bounced.
+  EXPECT_GE(sweeps(base, 5, 0.5), 1);
+  EXPECT_EQ(sweeps(base, 0.5, 0.5), 0);
 }
 
 TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
