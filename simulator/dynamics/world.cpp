@@ -713,23 +713,25 @@ double World::max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const
 
 double World::unswept_clear_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                                      const ImpactCache& cache, double tau, double h_s) const {
-  for (const auto& [pair, query] : cache) {
-    if (tau <= 0) break;
-    if (!query.valid || query.swept || !depth_measured(bodies_[pair.first], bodies_[pair.second])) continue;
-    const int p = slot_of(participants, pair.first), q = slot_of(participants, pair.second);
-    if (p < 0 || q < 0) continue;  // another group's pair
-    if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
-    const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
-    // (Twelve halvings: a pair that moved a centimetre is then within 3 um of its start.)
-    for (int halving = 0; halving < 12; ++halving) {
-      // What the rest of the step undoes (at half the depenetration speed) may be left:
-      // halving to the end check's micrometre made cut after cut, to the event cap.
-      const double undone_m = 0.5 * options_.max_depenetration_speed_m_s * h_s * (1 - tau);
-      const double depth_m = deepest_overlap(pair.first, motion_a.pose_at(tau), pair.second, motion_b.pose_at(tau));
-      if (depth_m <= std::max(query.allowed_depth_m, undone_m)) break;
-      tau *= 0.5;
+  // (The group's pairs only: at the step's start the cache holds every group's.)
+  for (int p = 0; p < static_cast<int>(participants.size()) && tau > 0; ++p)
+    for (auto it = cache.lower_bound({participants[p], -1}); it != cache.end() && it->first.first == participants[p]; ++it) {
+      const auto& [pair, query] = *it;
+      if (!query.valid || query.swept || !depth_measured(bodies_[pair.first], bodies_[pair.second])) continue;
+      const int q = slot_of(participants, pair.second);
+      if (q < 0) continue;  // another group's pair
+      if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
+      const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
+      // (Twelve halvings: a pair that moved a centimetre is then within 3 um of its start.)
+      for (int halving = 0; halving < 12; ++halving) {
+        // What the rest of the step undoes (at half the depenetration speed) may be left:
+        // halving to the end check's micrometre made cut after cut, to the event cap.
+        const double undone_m = 0.5 * options_.max_depenetration_speed_m_s * h_s * (1 - tau);
+        const double depth_m = deepest_overlap(pair.first, motion_a.pose_at(tau), pair.second, motion_b.pose_at(tau));
+        if (depth_m <= std::max(query.allowed_depth_m, undone_m)) break;
+        tau *= 0.5;
+      }
     }
-  }
   return tau;
 }
 

@@ -299,20 +299,20 @@ class World {
   void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
                            const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query,
                            collision::NearbyTrianglePairs* nearby) const;
-  // The fraction of the motions to `next` at which no touching pair that deepens is
-  // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
-  // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
-  // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
   // The relative motion under which a resting pair is checked at the end of its motion
   // instead of swept (WorldOptions::resting_unswept_motion_m, capped by the pair's shapes).
   double max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const;
   // The fraction tau of the motion to next (over h_s), or less (halved), at which no
-  // unswept pair of primitives (see CachedImpact::swept) overlaps deeper than allowed or
+  // unswept pair whose depth is measured (see CachedImpact::swept; not a mesh pair) overlaps deeper than allowed or
   // than the rest of the step can undo: a step cut at tau must not leave such a pair where
   // its motion only passes through (a box clipping another's corner, out again by the
   // motion's end).
   double unswept_clear_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                                 const ImpactCache& cache, double tau, double h_s) const;
+  // The fraction of the motions to `next` at which no touching pair that deepens is
+  // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
+  // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
+  // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
   double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                           const ImpactCache& cache, const ImpactMap& meeting) const;
   // Kinematic participants to their trajectory pose at t_s, moving as they will over
