@@ -339,13 +339,15 @@ def main():
     w("Derived from this run's figures:\n")
     w("\n".join(f"- {s}" for s in shortfalls) if shortfalls else "- none in this run's figures.")
     w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml); "
-      "in a live five-minute run on 2 cores its simulator keeps up with the camera at 6-7 ms per step since the "
-      "thirteenth session (before, a pile of resting bunnies that never quite rested put it seconds behind; "
-      "docs/pipeline.md); 10 ms steps have not been measured live since. The quick run has no N = 1000 drop, where "
-      "we stay within 1 um of overlap but are far slower per step than ODE quickstep: 7-9x over the first second "
-      "(5-8x allowing 10 um, the arphys-10um rows); over the 2 s the anchor measured, 5x with friction and 50x "
-      "frictionless, where the pile spreads over its frictionless floor and every strike is an exact impact "
-      "(14x allowing 10 um; docs/dynamics.md, scene 6).\n")
+      "on 2 cores its simulator keeps up while the bunnies rest (6-7 ms per step since the thirteenth session), but "
+      "falls behind while the tracked box pushes a pile of 15-20 of them: 20-40 ms per 20 ms step from about "
+      "t = 12 s of the main job, 900-1000 ms of CPU per second replayed into the simulator alone (sixteenth session; "
+      "docs/pipeline.md). The quick run has no N = 1000 drop, where we stay within a few micrometres of overlap but "
+      "are far slower per step than ODE quickstep: 6-7x over the first second (5.5-7x allowing 10 um, the "
+      "arphys-10um rows); over the 2 s the anchor measured, 4.0x with friction and 15x frictionless (seventeenth "
+      "session; 50x before resting pairs of boxes were left unswept up to 10 mm of relative motion a step), where "
+      "the pile spreads over its frictionless floor and every strike is an exact impact (9.6x allowing 10 um; "
+      "docs/dynamics.md, scene 6).\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
