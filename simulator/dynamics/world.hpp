@@ -127,9 +127,10 @@ struct StepReport {
   int iterative_islands = 0;    // contact islands too large for the exact solver (max_exact_rows)
   double kkt_residual_m_s = 0;  // worst over the step's solves
   // Deepest overlap among the step's resting contacts where they were gathered: the step's
-  // start and each cut (0: none). A cut can catch a resting pair, checked only at the end
-  // of its motion, tens of micrometres inside mid-step; every step ends within the overlap
-  // tolerance (and its allowed creep).
+  // start and each cut (0: none). A cut can catch a pair checked only at the end of its
+  // motion inside mid-step, but no deeper than the rest of the step undoes at half
+  // max_depenetration_speed_m_s (World::unswept_clear_fraction); every step ends within
+  // the overlap tolerance (and its allowed creep).
   double max_penetration_m = 0;
   int solver_iterations = 0;
   int launches_prevented = 0;   // bodies the launch guard held back (a solver failure, reported)
@@ -303,10 +304,10 @@ class World {
   // instead of swept (WorldOptions::resting_unswept_motion_m, capped by the pair's shapes).
   double max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const;
   // The fraction tau of the motion to next (over h_s), or less (halved), at which no
-  // unswept pair whose depth is measured (see CachedImpact::swept; not a mesh pair) overlaps deeper than allowed or
-  // than the rest of the step can undo: a step cut at tau must not leave such a pair where
-  // its motion only passes through (a box clipping another's corner, out again by the
-  // motion's end).
+  // unswept pair whose depth is measured (see CachedImpact::swept; not a mesh pair)
+  // overlaps deeper than allowed or than the rest of the step can undo: a step cut at tau
+  // must not leave such a pair where its motion only passes through (a box clipping
+  // another's corner, out again by the motion's end).
   double unswept_clear_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                                 const ImpactCache& cache, double tau, double h_s) const;
   // The fraction of the motions to `next` at which no touching pair that deepens is
