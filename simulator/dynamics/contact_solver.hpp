@@ -81,6 +81,7 @@ struct ContactSolveResult {
 // (an impact found by the CCD) re-solves only the islands those rows touch. Valid while
 // the bodies' inertia (their poses) is unchanged; bodies are named by the caller's keys
 // (solve_contacts' body_keys), so solves over different subsets of bodies share it.
+// An island solved iteratively again with rows added starts from its earlier answer.
 struct SolvedIslands {
   struct Island {
     std::vector<ContactRow> rows;  // bodies as keys

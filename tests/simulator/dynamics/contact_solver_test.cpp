@@ -271,6 +271,51 @@ TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
   EXPECT_LE(-exact.impulses_W_N_s[0].x(), 0.5 * exact.normal_impulses_N_s[0] * (1 + 1e-12));
 }
 
+// An island too large for the exact solver, re-solved with a row added (the CCD found
+// an impact), goes on from its earlier solve's impulses, not from last step's again.
+TEST(SolvedIslands, AnIterativeReSolveGoesOnFromTheIslandsEarlierSolve) {
+  const int boxes = 10;
+  std::vector<BodyInertia> inertia;
+  std::vector<BodyVelocity> falling(boxes);
+  std::vector<ContactRow> rows;
+  std::vector<int> keys;
+  for (int k = 0; k < boxes; ++k) {
+    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
+    keys.push_back(100 + k);
+    falling[k].v_WC_m_s = {0.003, 0, -9.81e-3};
+    for (const double dy : {-0.1, 0.1})
+      for (const double dx : {-0.1, 0.1}) {
+        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
+        row.body_a = k - 1;
+        rows.push_back(row);
+      }
+  }
+  ContactSolverOptions options;  // exact, but for islands over max_exact_rows: as in a pile
+  options.max_exact_rows = 8;
+  SolvedIslands memo;
+  std::vector<BodyVelocity> first_u = falling;
+  const ContactSolveResult first = solve_contacts(inertia, first_u, rows, options, &memo, &keys);
+  ASSERT_EQ(first.iterative_islands, 1);
+  ASSERT_EQ(first.iterations, options.iterations);  // ran out of sweeps
+  ASSERT_GT(first.kkt_residual_m_s, 1e-5);
+
+  // A wall beside the top box, which slides away from it: the wall pushes nothing.
+  ContactRow wall;
+  wall.body_b = boxes - 1;
+  wall.point_W = {-0.1, 0, 0.2 * boxes - 0.1};
+  wall.normal_W = Eigen::Vector3d::UnitX();
+  rows.push_back(wall);
+  std::vector<BodyVelocity> with_memo = falling, without = falling;
+  const ContactSolveResult resolved = solve_contacts(inertia, with_memo, rows, options, &memo, &keys);
+  const ContactSolveResult afresh = solve_contacts(inertia, without, rows, options);
+  std::printf("column of ten re-solved with a wall: residual %.2g m/s from the earlier solve, %.2g afresh (first %.2g)\n",
+              resolved.kkt_residual_m_s, afresh.kkt_residual_m_s, first.kkt_residual_m_s);
+  EXPECT_EQ(memo.reused, 0);  // not the same island: solved again
+  EXPECT_NEAR(afresh.kkt_residual_m_s, first.kkt_residual_m_s, 0.01 * first.kkt_residual_m_s);
+  EXPECT_LT(resolved.kkt_residual_m_s, 0.5 * first.kkt_residual_m_s);
+  EXPECT_EQ(resolved.normal_impulses_N_s.back(), 0.0);
+}
+
 // Friction sweeps stop once no row's velocity moves more than sweep_tolerance_m_s in a
 // sweep: fewer sweeps, and the answer within a few times that of sweeping to the end.
 TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
