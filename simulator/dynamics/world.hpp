@@ -154,6 +154,8 @@ using ImpactMap = std::map<std::pair<int, int>, std::vector<ImpactPoint>>;
 
 class World {
  public:
+  // Throws std::invalid_argument naming the option and its value when one is out of its
+  // range (a NaN or negative tolerance, a zero event cap).
   explicit World(WorldOptions options = {});
 
   // Adds a body; a dynamic one needs a positive mass and an invertible inertia, and

@@ -37,6 +37,46 @@ TEST(WorldRobustness, BadBodiesAreRejectedByName) {
   EXPECT_THROW(world.step(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
 
+// Options out of range are refused at construction, by name and value: a NaN compares
+// false with every bound and would otherwise switch checks off unseen.
+TEST(WorldRobustness, BadOptionsAreRejectedByName) {
+  EXPECT_NO_THROW(World{});
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto message = [](const WorldOptions& options) -> std::string {
+    try {
+      World world(options);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  WorldOptions options;
+  options.overlap_tolerance_m = nan;
+  EXPECT_NE(message(options).find("overlap_tolerance_m is nan"), std::string::npos) << message(options);
+  options = {};
+  options.resting_unswept_motion_m = -1e-3;
+  EXPECT_NE(message(options).find("resting_unswept_motion_m is -0.001"), std::string::npos) << message(options);
+  options = {};
+  options.contact_gap_m = 2e-3;  // beyond contact_tolerance_m: resting contacts would be lost
+  EXPECT_NE(message(options).find("contact_gap_m is 0.002, expected less than contact_tolerance_m"), std::string::npos)
+      << message(options);
+  options = {};
+  options.max_events_per_step = 0;
+  EXPECT_NE(message(options).find("max_events_per_step is 0"), std::string::npos) << message(options);
+  options = {};
+  options.solver.iterations = 0;
+  EXPECT_NE(message(options).find("solver.iterations is 0"), std::string::npos) << message(options);
+  options = {};
+  options.ccd.time_tolerance = 0;
+  EXPECT_NE(message(options).find("ccd.time_tolerance is 0"), std::string::npos) << message(options);
+  options = {};
+  options.gravity_m_s2.x() = std::numeric_limits<double>::infinity();
+  EXPECT_NE(message(options).find("gravity_m_s2"), std::string::npos) << message(options);
+  options = {};
+  options.max_body_speed_m_s = std::numeric_limits<double>::infinity();  // no cap: allowed
+  EXPECT_EQ(message(options), "");
+}
+
 TEST(WorldRobustness, RestingContactCausesNoEvents) {
   World world;
   world.add_body(plane_body());
