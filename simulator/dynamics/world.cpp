@@ -219,6 +219,8 @@ void World::remove_body(int index) {
   pushed_before_.clear();
   warm_forces_.clear();
   nearby_.clear();
+  apart_at_end_.clear();
+  apart_at_last_end_.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
   placed_since_step_.assign(bodies_.size(), 1);
   placed_crossing_.clear();
@@ -274,7 +276,15 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
     if (!depth_measured(a, b)) {
       bool apart = false;
       const bool placed = placed_since_step_[i] || placed_since_step_[j] || placed_crossing_.count({i, j});
-      const auto crossing = mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
+      // (Proven apart at these poses where the last step ended: see apart_at_end_.)
+      const auto ended_apart = apart_at_last_end_.find({i, j});
+      const bool known_apart = ended_apart != apart_at_last_end_.end() &&
+                               ended_apart->second.X_WA.matrix() == a.X_WB.matrix() &&
+                               ended_apart->second.X_WB.matrix() == b.X_WB.matrix();
+      const auto crossing =
+          known_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
+      apart |= known_apart;
+      if (!known_apart && (!manifold.empty() || placed)) ++crossing_tests_;
       if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
       if (crossing && placed) {
         placed_crossing_.insert({i, j});
@@ -651,6 +661,8 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
       if (!resting_slowly) ++report.ccd_queries;
       const collision::ContinuousResult& r = query.result;
       query.swept = !resting_slowly && !touching_at_start(r);
+      // Swept from apart without meeting: apart at the end (apart_at_end_).
+      if (query.swept && !r.collides && !depth_measured(a, b)) apart_at_end_[{i, j}] = {next[p], next[q]};
       if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
         // The meeting point as material points of both bodies, and A's normal there.
         const geometry::Pose X_A = motion_a.pose_at(r.time_of_impact);
@@ -678,6 +690,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
           }
         } else if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
           check_mesh_crossing(a, motion_a, b, motion_b, relative_motion_m, query, nearby_pairs(i, j));
+          if (query.free_until == 1) apart_at_end_[{i, j}] = {next[p], next[q]};
         }
         query.deepens = !query.hits.empty() || query.free_until < 1;
       }
@@ -1180,6 +1193,9 @@ StepReport World::step(double dt_s) {
   }
   // The step's first solve, for everything at once.
   apart_at_.clear();
+  apart_at_last_end_ = std::move(apart_at_end_);
+  apart_at_end_.clear();
+  crossing_tests_ = 0;
   for (auto it = nearby_.begin(); it != nearby_.end();) {
     if (!it->second.used) {
       it = nearby_.erase(it);
@@ -1340,6 +1356,7 @@ StepReport World::step(double dt_s) {
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);
+  report.mesh_crossing_tests = crossing_tests_;
   return report;
 }
 

@@ -3,11 +3,15 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <string>
+#include <vector>
 
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/scene_world.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
+#include "simulator/geometry/triangle_mesh.hpp"
 #include "tests/simulator/dynamics/test_bodies.hpp"
 
 namespace arphys::dynamics {
@@ -409,6 +413,44 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
   // A bouncing pair keeps the contact tolerance: what the end check finds is held, not bounced.
   EXPECT_GE(sweeps(base, 5, 0.5), 1);
   EXPECT_EQ(sweeps(base, 0.5, 0.5), 0);
+}
+
+// A mesh pair that a step's motion proved apart at its end poses (swept by the CCD
+// without meeting, or checked at the end) is not tested for crossing again at the next
+// step's start, where it is at those poses: the same test, the same answer.
+TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
+  const auto mesh_cube = [](const std::string& id, const Eigen::Vector3d& p) {
+    RigidBody body = cube(id, p, 0.08);
+    body.shape = collision::Shape::mesh(
+        std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(Eigen::Vector3d::Constant(0.08))));
+    return body;
+  };
+  // A cube sliding past a fixed one, 0.5 mm from it (within the contact tolerance, so a
+  // pair the contact pass tests), without gravity: at 3 mm per step the CCD sweeps it, at
+  // 0.5 mm per step it is a resting pair checked at the end.
+  for (const double speed_m_s : {0.3, 0.05}) {
+    WorldOptions options;
+    options.gravity_m_s2.setZero();
+    World world(options);
+    RigidBody fixed = mesh_cube("fixed", {0, 0, 0});
+    fixed.motion = BodyMotion::kStatic;
+    world.add_body(fixed);
+    const int slider = world.add_body(mesh_cube("slider", {-0.05, 0, 0.0805}));
+    world.body(slider).v_WC_m_s = {speed_m_s, 0, 0};
+    std::vector<int> tests, queries;
+    for (int k = 0; k < 20; ++k) {
+      const StepReport report = world.step(0.01);
+      tests.push_back(report.mesh_crossing_tests);
+      queries.push_back(report.ccd_queries);
+    }
+    SCOPED_TRACE("speed " + std::to_string(speed_m_s) + " m/s");
+    EXPECT_EQ(tests.front(), 1);  // nothing known at the first step's start
+    for (int k = 1; k < 20; ++k) EXPECT_EQ(tests[k], 0) << "step " << k;
+    EXPECT_EQ(queries[5], speed_m_s > 0.1 ? 1 : 0);  // (swept, or checked at the end)
+    const RigidBody& b = world.bodies()[slider];
+    EXPECT_NEAR(b.X_WB.translation().x(), -0.05 + 20 * 0.01 * speed_m_s, 1e-12);
+    EXPECT_NEAR(b.X_WB.translation().z(), 0.0805, 1e-12);
+  }
 }
 
 TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
