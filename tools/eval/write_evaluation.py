@@ -341,13 +341,15 @@ def main():
     w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml); "
       "on 2 cores its simulator keeps up while the bunnies rest (6-7 ms per step since the thirteenth session), but "
       "falls behind while the tracked box pushes a pile of 15-20 of them: 20-40 ms per 20 ms step from about "
-      "t = 12 s of the main job, 900-1000 ms of CPU per second replayed into the simulator alone (sixteenth session; "
-      "docs/pipeline.md). The quick run has no N = 1000 drop, where we stay within a few micrometres of overlap but "
-      "are far slower per step than ODE quickstep: 6-7x over the first second (5.5-7x allowing 10 um, the "
-      "arphys-10um rows); over the 2 s the anchor measured, 4.0x with friction and 15x frictionless (seventeenth "
-      "session; 50x before resting pairs of boxes were left unswept up to 10 mm of relative motion a step), where "
-      "the pile spreads over its frictionless floor and every strike is an exact impact (9.6x allowing 10 um; "
-      "docs/dynamics.md, scene 6).\n")
+      "t = 12 s of the main job, up to 1000 ms of CPU per second replayed into the simulator alone (sixteenth session; "
+      "7.0 s of CPU over the 20 s replay since the eighteenth, against 8.0 s; docs/pipeline.md). The quick run has no "
+      "N = 1000 drop, where we stay within a few micrometres of overlap but are far slower per step than ODE "
+      "quickstep: 5x frictionless and 8x with friction over the first second (5x and 8x allowing 10 um, the "
+      "arphys-10um rows); over the 2 s the anchor measured, 4.3x with friction and 14x frictionless (eighteenth "
+      "session; 50x before resting pairs of boxes were left unswept up to 10 mm of relative motion a step, in the "
+      "seventeenth), where the pile spreads over its frictionless floor and every strike is an exact impact (8.4x "
+      "allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios moved by a fifth between runs of the same code "
+      "on this shared machine.\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
