@@ -161,6 +161,12 @@ void check_options(const WorldOptions& o) {
 
 World::World(WorldOptions options) : options_(std::move(options)) { check_options(options_); }
 
+bool World::known_apart(const std::map<std::pair<int, int>, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
+                        const geometry::Pose& X_WB) {
+  const auto it = known.find({i, j});
+  return it != known.end() && it->second.X_WA.matrix() == X_WA.matrix() && it->second.X_WB.matrix() == X_WB.matrix();
+}
+
 int World::add_body(RigidBody body) {
   if (!body.X_WB.matrix().allFinite()) throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite pose");
   if (body.is_dynamic()) {
@@ -277,14 +283,11 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
       bool apart = false;
       const bool placed = placed_since_step_[i] || placed_since_step_[j] || placed_crossing_.count({i, j});
       // (Proven apart at these poses where the last step ended: see apart_at_end_.)
-      const auto ended_apart = apart_at_last_end_.find({i, j});
-      const bool known_apart = ended_apart != apart_at_last_end_.end() &&
-                               ended_apart->second.X_WA.matrix() == a.X_WB.matrix() &&
-                               ended_apart->second.X_WB.matrix() == b.X_WB.matrix();
+      const bool ended_apart = known_apart(apart_at_last_end_, i, j, a.X_WB, b.X_WB);
       const auto crossing =
-          known_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
-      apart |= known_apart;
-      if (!known_apart && (!manifold.empty() || placed)) ++crossing_tests_;
+          ended_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
+      apart |= ended_apart;
+      if (!ended_apart && (!manifold.empty() || placed)) ++crossing_tests_;
       if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
       if (crossing && placed) {
         placed_crossing_.insert({i, j});
@@ -643,9 +646,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     CachedImpact fresh;
     CachedImpact& query = cache ? cached(i, j) : fresh;
     if (!query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) {
-      const auto apart = apart_at_.find({i, j});  // (i < j: participants are sorted)
-      const bool apart_at_start = apart != apart_at_.end() && apart->second.X_WA.matrix() == a.X_WB.matrix() &&
-                                  apart->second.X_WB.matrix() == b.X_WB.matrix();
+      const bool apart_at_start = known_apart(apart_at_, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
       const bool resting_slowly =
           resting_pairs && ((primitive(a) && primitive(b)) || apart_at_start) &&
           relative_motion_m <= max_unswept_motion_m(a, b) &&

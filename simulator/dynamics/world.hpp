@@ -363,6 +363,10 @@ class World {
     geometry::Pose X_WA, X_WB;
   };
   mutable std::map<std::pair<int, int>, ApartAt> apart_at_;
+  // Whether `known` holds pair (i, j) apart at exactly these poses (a fact about the
+  // poses, so only an exact match counts).
+  static bool known_apart(const std::map<std::pair<int, int>, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
+                          const geometry::Pose& X_WB);
   // Mesh pairs proven apart at the end poses of a motion, by its end check
   // (check_mesh_crossing) or by a CCD sweep from apart that met nothing: if the step ends
   // with them there, the next step's contact pass has its own crossing test's answer at
