@@ -287,7 +287,6 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
       const auto crossing =
           ended_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
       apart |= ended_apart;
-      if (!ended_apart && (!manifold.empty() || placed)) ++crossing_tests_;
       if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
       if (crossing && placed) {
         placed_crossing_.insert({i, j});
@@ -340,6 +339,7 @@ std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBo
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
   // (The answer "apart" is shared with the CCD of the pair's motions from these poses:
   // see apart_at_.)
+  ++crossing_tests_;
   const auto crossing = collision::find_intersection(mesh_a, a.X_WB, mesh_b, b.X_WB, nearby);
   if (!crossing) {
     if (apart) *apart = true;

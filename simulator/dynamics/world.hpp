@@ -377,7 +377,7 @@ class World {
   // the test: none differed).
   // Written during a step, read in the next.
   mutable std::map<std::pair<int, int>, ApartAt> apart_at_end_, apart_at_last_end_;
-  mutable int crossing_tests_ = 0;  // this step's, for StepReport::mesh_crossing_tests
+  mutable int crossing_tests_ = 0;  // this step's (mesh_crossing_depth's), for StepReport::mesh_crossing_tests
   // Mesh pairs' triangle pairs near each other (collision::NearbyTrianglePairs), kept
   // from step to step while the contact pass meets the pair (an entry a step did not use
   // is dropped at the next). A memo, so mutable.
