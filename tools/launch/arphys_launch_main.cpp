@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <csignal>
 #include <sstream>
@@ -171,7 +172,7 @@ int main(int argc, char** argv) {
                  "pushing faster than it moves")
       ->check(CLI::IsMember({"none", "one_euro", "constant_velocity"}))
       ->capture_default_str();
-  app.add_option("--duration", duration_s, "seconds to run")->capture_default_str();
+  app.add_option("--duration", duration_s, "seconds to run (the synthetic camera plays this much of its script; a camera drawing slower than real time is waited for, up to 20 s more)")->capture_default_str();
   app.add_option("--out", out_dir, "write overlay.avi, latency.json, process logs (and run.lcmlog) here");
   app.add_flag("--restart", restart, "restart a process that dies (reported, counted) instead of stopping the run");
   app.add_flag("--record", record, "record all traffic with lcm-logger to OUT/run.lcmlog");
@@ -335,13 +336,34 @@ int main(int argc, char** argv) {
   int64_t spawn_seq = 0;
   const auto start = std::chrono::steady_clock::now();
   auto last_line = start, last_spawn = start;
+  constexpr double kDrainS = 2.5, kCameraLateLimitS = 20.0;
+  std::ptrdiff_t camera_child = -1;
+  for (std::size_t i = 0; i < children.size(); ++i) {
+    if (children[i].name == "camera") camera_child = static_cast<std::ptrdiff_t>(i);
+  }
+  std::optional<std::chrono::steady_clock::time_point> camera_done;
   std::string died;
   while (!g_stop) {
     bus->handle_timeout_ms(20);
     bus->handle_pending();
     const auto now = std::chrono::steady_clock::now();
     const double elapsed = std::chrono::duration<double>(now - start).count();
-    if (elapsed > duration_s + 2.5) break;
+    // The run is the synthetic camera's script: it ends when the camera has published its
+    // last frame and the pipeline has had time to carry it to the overlay. A camera that
+    // draws slower than its frame rate (a loaded machine) is waited for, up to a bound; a
+    // source on another machine or a real camera: the given duration.
+    if (camera_child >= 0) {
+      const Child& c = children[static_cast<std::size_t>(camera_child)];
+      if (c.exited && !camera_done) camera_done = now;
+      if (camera_done && std::chrono::duration<double>(now - *camera_done).count() > kDrainS) break;
+      if (elapsed > duration_s + kCameraLateLimitS) {
+        std::fprintf(stderr, "arphys-launch: the camera is still playing %.0f s after its script's end; stopping\n",
+                     kCameraLateLimitS);
+        break;
+      }
+    } else if (elapsed > duration_s + kDrainS) {
+      break;
+    }
     for (auto& c : children) {
       if (c.exited || c.pid <= 0) continue;
       if (waitpid(c.pid, &c.status, WNOHANG) == c.pid) {

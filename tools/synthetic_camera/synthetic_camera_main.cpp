@@ -101,6 +101,40 @@ int main(int argc, char** argv) {
   cv::VideoWriter writer;
   const std::string camera_id = camera.camera_id.empty() ? "synthetic" : camera.camera_id;
   const double period_s = 1.0 / script.frame_rate_hz;
+
+  // Where every real object is at t: drawn bodies, their markers in the camera, the truth.
+  struct SceneAt {
+    std::vector<rendering::BodyToDraw> bodies;
+    std::vector<tracking::MarkerPlacement> markers;
+    arphys::ground_truth_t truth{};
+  };
+  const geometry::Pose X_CW = script.X_WC.inverse();
+  auto scene_at = [&](double t_s) {
+    SceneAt at;
+    for (const auto& object : script.scene.objects) {
+      if (object.role != config::Role::kReal) continue;
+      const auto path = trajectories.find(object.id);
+      const geometry::Pose X_WO = path == trajectories.end() ? object.X_WO : path->second.pose_at(t_s);
+      at.bodies.push_back({object.id, false, X_WO});
+      for (const auto& m : object.markers) at.markers.push_back({m.family, m.id, m.size_m, X_CW * X_WO * m.X_OM});
+      at.truth.object_ids.push_back(object.id);
+      at.truth.X_WO.push_back(msg::to_message(X_WO));
+    }
+    return at;
+  };
+  // Bodies shaded over the background (real objects are what this camera sees), then
+  // their markers, then the sensor.
+  auto draw = [&](const SceneAt& at, tracking::ImageEffects effects) {
+    rendering::OverlayLayers layers = rendering::layers_for(*models, at.bodies, script.X_WC, {}, nullptr);
+    for (auto& item : layers.items) item.rgba = Eigen::Vector4f(0.78f, 0.76f, 0.72f, 1.0f);
+    cv::Mat shaded = gl->composite(layers, background_bgr), grey;
+    cv::cvtColor(shaded, grey, cv::COLOR_BGR2GRAY);
+    return tracking::render_markers(marker_camera, at.markers, grey, effects);
+  };
+  // A real camera is streaming before its first frame is stamped. The first drawing
+  // compiles shaders and builds the lens maps (seconds on a loaded machine): done before
+  // the clock starts, else every frame were published that much after its stamp.
+  draw(scene_at(0.0), tracking::ImageEffects{});
   const int64_t start_utime = msg::now_utime();
   const auto start = std::chrono::steady_clock::now();
   std::fprintf(stderr, "arphys-synthetic-camera: %s, %s, %.0f FPS for %.1f s%s\n", script.file.c_str(),
@@ -113,32 +147,13 @@ int main(int argc, char** argv) {
     if (!fast) std::this_thread::sleep_until(start + std::chrono::duration<double>(t_s));
     const int64_t capture_utime = start_utime + static_cast<int64_t>(std::llround(t_s * 1e6));
 
-    // Where every real object is at t.
-    std::vector<rendering::BodyToDraw> bodies;
-    std::vector<tracking::MarkerPlacement> markers;
-    arphys::ground_truth_t truth{};
-    const geometry::Pose X_CW = script.X_WC.inverse();
-    for (const auto& object : script.scene.objects) {
-      if (object.role != config::Role::kReal) continue;
-      const auto path = trajectories.find(object.id);
-      const geometry::Pose X_WO = path == trajectories.end() ? object.X_WO : path->second.pose_at(t_s);
-      bodies.push_back({object.id, false, X_WO});
-      for (const auto& m : object.markers) markers.push_back({m.family, m.id, m.size_m, X_CW * X_WO * m.X_OM});
-      truth.object_ids.push_back(object.id);
-      truth.X_WO.push_back(msg::to_message(X_WO));
-    }
-    // Bodies shaded over the background (real objects are what this camera sees), then
-    // their markers, then the sensor.
-    rendering::OverlayLayers layers = rendering::layers_for(*models, bodies, script.X_WC, {}, nullptr);
-    for (auto& item : layers.items) item.rgba = Eigen::Vector4f(0.78f, 0.76f, 0.72f, 1.0f);
-    cv::Mat shaded = gl->composite(layers, background_bgr), grey;
-    cv::cvtColor(shaded, grey, cv::COLOR_BGR2GRAY);
+    SceneAt at = scene_at(t_s);
     tracking::ImageEffects effects;
     effects.noise_sigma = script.effects.noise_sigma;
     effects.blur_length_px = script.effects.motion_blur_px;
     effects.blur_angle_rad = uniform(rng) * M_PI;
     effects.seed = static_cast<uint32_t>(script.effects.seed * 100003u + static_cast<uint32_t>(seq));
-    cv::Mat frame = tracking::render_markers(marker_camera, markers, grey, effects);
+    cv::Mat frame = draw(at, effects);
     if (script.effects.exposure_jitter > 0) frame.convertTo(frame, CV_8U, std::max(0.2, 1.0 + gain_noise(rng)));
     ++frame_count;
 
@@ -165,6 +180,7 @@ int main(int argc, char** argv) {
         if (!fast && script.effects.delay_ms > 0) {
           std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(script.effects.delay_ms));
         }
+        arphys::ground_truth_t& truth = at.truth;
         arphys::image_t image{};
         image.utime = capture_utime;
         image.seq = seq;
@@ -206,8 +222,14 @@ int main(int argc, char** argv) {
     }
     const auto now = std::chrono::steady_clock::now();
     if (now - last_progress > std::chrono::seconds(2)) {
-      std::fprintf(stderr, "arphys-synthetic-camera: t = %.1f / %.1f s, %lld frames\n", t_s, duration_s,
-                   static_cast<long long>(frame_count));
+      // Frames are stamped with their scheduled time: a camera drawing slower than its
+      // frame rate publishes them late, and the pipeline's latency figures include that.
+      const double behind_s = std::chrono::duration<double>(now - start).count() - t_s;
+      std::fprintf(stderr, "arphys-synthetic-camera: t = %.1f / %.1f s, %lld frames%s\n", t_s, duration_s,
+                   static_cast<long long>(frame_count),
+                   !fast && behind_s > 2 * period_s
+                       ? (", " + std::to_string(static_cast<int>(behind_s * 1000)) + " ms behind schedule").c_str()
+                       : "");
       last_progress = now;
     }
   }

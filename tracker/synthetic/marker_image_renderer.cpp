@@ -103,7 +103,7 @@ struct LensMap {
   cv::Matx33d K;
   cv::Mat distortion;
   int S = 0;
-  cv::Mat map_x, map_y;
+  cv::Mat map_x, map_y;  // remap's fixed-point pair (CV_16SC2 and CV_16UC1)
 };
 
 const LensMap& lens_map(const CameraModel& camera, int S) {
@@ -122,14 +122,16 @@ const LensMap& lens_map(const CameraModel& camera, int S) {
   std::vector<cv::Point2d> pinhole;
   cv::undistortPoints(distorted, pinhole, camera.K, camera.distortion, cv::noArray(), camera.K,
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-12));
-  m.map_x.create(h, w, CV_32F);
-  m.map_y.create(h, w, CV_32F);
+  cv::Mat map_x(h, w, CV_32F), map_y(h, w, CV_32F);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const cv::Point2d& q = pinhole[static_cast<std::size_t>(y) * w + x];
-      m.map_x.at<float>(y, x) = static_cast<float>(S * (q.x + 0.5) - 0.5);
-      m.map_y.at<float>(y, x) = static_cast<float>(S * (q.y + 0.5) - 0.5);
+      map_x.at<float>(y, x) = static_cast<float>(S * (q.x + 0.5) - 0.5);
+      map_y.at<float>(y, x) = static_cast<float>(S * (q.y + 0.5) - 0.5);
     }
+  // In remap's own fixed-point form: from float maps it converts them on every call,
+  // which was most of a lens frame's cost.
+  cv::convertMaps(map_x, map_y, m.map_x, m.map_y, CV_16SC2);
   if (maps.size() >= 4) maps.erase(maps.begin());
   maps.push_back(std::move(m));
   return maps.back();
