@@ -783,16 +783,25 @@ double World::unswept_clear_fraction(const std::vector<int>& participants, const
       if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
       const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
       // (Twelve halvings: a pair that moved a centimetre is then within 3 um of its start.)
-      for (int halving = 0; halving < 12; ++halving) {
+      const double allowed_m = query.allowed_depth_m;
+      tau = halved_until_within(pair, motion_a, motion_b, tau, 12, [&](double fraction) {
         // What the rest of the step undoes (at half the depenetration speed) may be left:
         // halving to the end check's micrometre made cut after cut, to the event cap.
-        const double undone_m = 0.5 * options_.max_depenetration_speed_m_s * h_s * (1 - tau);
-        const double depth_m = deepest_overlap(pair.first, motion_a.pose_at(tau), pair.second, motion_b.pose_at(tau));
-        if (depth_m <= std::max(query.allowed_depth_m, undone_m)) break;
-        tau *= 0.5;
-      }
+        return std::max(allowed_m, 0.5 * options_.max_depenetration_speed_m_s * h_s * (1 - fraction));
+      });
     }
   return tau;
+}
+
+double World::halved_until_within(const std::pair<int, int>& pair, const geometry::ScrewMotion& motion_a,
+                                  const geometry::ScrewMotion& motion_b, double fraction, int max_halvings,
+                                  const std::function<double(double)>& allowed_depth_m) const {
+  for (int halving = 0; halving < max_halvings; ++halving) {
+    const double depth_m = deepest_overlap(pair.first, motion_a.pose_at(fraction), pair.second, motion_b.pose_at(fraction));
+    if (depth_m <= allowed_depth_m(fraction)) break;
+    fraction *= 0.5;
+  }
+  return fraction;
 }
 
 double World::shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
@@ -814,10 +823,7 @@ double World::shallow_fraction(const std::vector<int>& participants, const std::
       continue;
     }
     const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
-    for (int halving = 0; halving < 6; ++halving) {
-      if (deepest_overlap(pair.first, motion_a.pose_at(fraction), pair.second, motion_b.pose_at(fraction)) <= query.allowed_depth_m) break;
-      fraction *= 0.5;
-    }
+    fraction = halved_until_within(pair, motion_a, motion_b, fraction, 6, [&](double) { return query.allowed_depth_m; });
   }
   return fraction;
 }

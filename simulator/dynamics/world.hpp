@@ -29,6 +29,7 @@
 // Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
 // push dynamic ones through the same contacts. Nothing ever passes through anything:
 // surfaces only meet at a CCD time of impact, where they touch.
+#include <functional>
 #include <limits>
 #include <map>
 #include <optional>
@@ -315,6 +316,11 @@ class World {
   // another's corner, out again by the motion's end).
   double unswept_clear_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                                 const ImpactCache& cache, double tau, double h_s) const;
+  // `fraction` of the pair's motions, halved (at most max_halvings times) until the pair
+  // overlaps there by no more than allowed_depth_m(fraction).
+  double halved_until_within(const std::pair<int, int>& pair, const geometry::ScrewMotion& motion_a,
+                             const geometry::ScrewMotion& motion_b, double fraction, int max_halvings,
+                             const std::function<double(double)>& allowed_depth_m) const;
   // The fraction of the motions to `next` at which no touching pair that deepens is
   // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
   // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
