@@ -1347,18 +1347,17 @@ StepReport World::step(double dt_s) {
                                 row_point(c.feature)});
   std::sort(pushed_before_.begin(), pushed_before_.end(),
             [](const PushedPoint& x, const PushedPoint& y) { return x.bodies < y.bodies; });
-  // Kept only while a solve can use them: the iterative solver, or an exact solver's
-  // island too large for it (max_exact_rows). (Kept always, they made a 100-box drop,
-  // where every island is small and exact, 10 % slower.)
+  // Kept only where a solve can use them: the iterative solver, an exact solver's island
+  // too large for it (max_exact_rows), and the exact solver's friction sweeps. (Kept
+  // always, they made a 100-box drop, where every island is small and exact, 10 % slower.)
   warm_forces_.clear();
-  if (options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0) {
-    for (const Contact& c : solved)
-      if (c.impulse_N_s > 0)
-        warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
-                                c.impulse_W_N_s / dt_s});
-    std::sort(warm_forces_.begin(), warm_forces_.end(),
-              [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
-  }
+  const bool iterative = options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
+  for (const Contact& c : solved)
+    if (c.impulse_N_s > 0 && (iterative || combined_friction(bodies_[c.body_a], bodies_[c.body_b]) > 0))
+      warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
+                              c.impulse_W_N_s / dt_s});
+  std::sort(warm_forces_.begin(), warm_forces_.end(),
+            [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
   if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
