@@ -587,9 +587,11 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
       // times, ending on an exact normal solve so the constraints hold exactly.
       const int rounds = frictional ? 3 : 1;
       if (frictional) {
-        // The friction sweeps start from last step's friction (bounded by mu times last
-        // step's normal impulse), as the iterative solver's do: from zero, they were two
-        // fifths of a frictional 1000-box pile's step.
+        // The friction sweeps start from last step's friction (kept in the disc of mu times
+        // last step's normal impulse), as the iterative solver's do. From zero, 50 sweeps
+        // did not quite stop a box resting on an incline (mu 0.7, 30 degrees) each step: it
+        // crept down at 2.8 mm/s. (The price: a settled frictional pile sweeps longer from
+        // its loaded friction than from none, about a fifth more time per step.)
         friction.f1.assign(n, 0.0);
         friction.f2.assign(n, 0.0);
         for (int k = 0; k < n; ++k) {
