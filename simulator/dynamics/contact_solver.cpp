@@ -590,8 +590,9 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         // The friction sweeps start from last step's friction (kept in the disc of mu times
         // last step's normal impulse), as the iterative solver's do. From zero, 50 sweeps
         // did not quite stop a box resting on an incline (mu 0.7, 30 degrees) each step: it
-        // crept down at 2.8 mm/s. (The price: a settled frictional pile sweeps longer from
-        // its loaded friction than from none, about a fifth more time per step.)
+        // crept down at 2.8 mm/s. (Swept to the full `iterations` in both rounds, a settled
+        // frictional pile then swept longer from its loaded friction than from none: see
+        // ContactSolverOptions::provisional_friction_sweeps.)
         friction.f1.assign(n, 0.0);
         friction.f2.assign(n, 0.0);
         for (int k = 0; k < n; ++k) {
@@ -677,10 +678,13 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
         result.iterations += dual.iterations;
         for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
-        if (round + 1 < rounds)
-          result.iterations +=
-              projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
-                                     options.sweep_tolerance_m_s, true, friction);
+        if (round + 1 < rounds) {
+          const bool provisional = round + 2 < rounds;  // not the last round of sweeps
+          const int sweeps =
+              provisional ? std::min(options.iterations, options.provisional_friction_sweeps) : options.iterations;
+          result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, sweeps,
+                                                      options.sweep_tolerance_m_s, true, friction);
+        }
       }
     } else {
       // Warm start: the sweeps begin from last step's impulses, applied, instead of from

@@ -148,6 +148,7 @@ void check_options(const WorldOptions& o) {
   non_negative("sleep_after_s", o.sleep_after_s);
   non_negative("sleep_speed_m_s", o.sleep_speed_m_s);
   at_least("solver.iterations", o.solver.iterations, 1);
+  at_least("solver.provisional_friction_sweeps", o.solver.provisional_friction_sweeps, 1);
   non_negative("solver.sweep_tolerance_m_s", o.solver.sweep_tolerance_m_s);
   at_least("solver.max_exact_rows", o.solver.max_exact_rows, 0);
   positive("ccd.time_tolerance", o.ccd.time_tolerance);

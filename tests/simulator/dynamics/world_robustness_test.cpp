@@ -71,6 +71,9 @@ TEST(WorldRobustness, BadOptionsAreRejectedByName) {
   options.solver.iterations = 0;
   EXPECT_NE(message(options).find("solver.iterations is 0"), std::string::npos) << message(options);
   options = {};
+  options.solver.provisional_friction_sweeps = 0;
+  EXPECT_NE(message(options).find("solver.provisional_friction_sweeps is 0"), std::string::npos) << message(options);
+  options = {};
   options.ccd.time_tolerance = 0;
   EXPECT_NE(message(options).find("ccd.time_tolerance is 0"), std::string::npos) << message(options);
   options = {};
