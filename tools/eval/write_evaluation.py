@@ -345,11 +345,10 @@ def main():
       "7.0 s of CPU over the 20 s replay since the eighteenth, against 8.0 s; docs/pipeline.md). The quick run has no "
       "N = 1000 drop, where we stay within a few micrometres of overlap but are far slower per step than ODE "
       "quickstep: 6x frictionless and 7x with friction over the first second (5x and 7x allowing 10 um, the "
-      "arphys-10um rows); over the 2 s the anchor measured, 5.6x with friction and 15x frictionless (nineteenth "
-      "session; with friction 4.3x in the eighteenth, before friction became isotropic and warm-started, which "
-      "costs a settled pile about a fifth; frictionless 50x before resting pairs of boxes were left unswept up to "
+      "arphys-10um rows); over the 2 s the anchor measured, 3.6-4.8x with friction (isotropic Coulomb friction since the nineteenth "
+      "session, at no cost in time) and 13x frictionless (nineteenth session; frictionless 50x before resting pairs of boxes were left unswept up to "
       "10 mm of relative motion a step, in the seventeenth), where the pile spreads over its frictionless floor "
-      "and every strike is an exact impact (8.2x allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios "
+      "and every strike is an exact impact (9x allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios "
       "moved by a fifth between runs of the same code on this shared machine.\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
