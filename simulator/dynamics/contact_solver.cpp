@@ -338,6 +338,15 @@ void clamp_to_friction_disc(double& f1, double& f2, double bound_N_s) {
   f2 *= scale;
 }
 
+// The friction part of a warm-start impulse start_W along the row's tangents t1 and t2,
+// in Coulomb's disc of mu times its normal part.
+void warm_friction(const ContactRow& row, const Eigen::Vector3d& start_W, const Eigen::Vector3d& t1,
+                   const Eigen::Vector3d& t2, double& f1, double& f2) {
+  f1 = start_W.dot(t1);
+  f2 = start_W.dot(t2);
+  clamp_to_friction_disc(f1, f2, row.friction * std::max(0.0, start_W.dot(row.normal_W)));
+}
+
 // Projected Gauss-Seidel over an island's rows, warm-started from `lambda`; friction
 // rows (two per frictional contact) stay in Coulomb's disc, mu times their normal impulse.
 // Friction impulses along the two tangents of each row, warm-started and returned.
@@ -439,9 +448,6 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
             std::max(change_m_s, update(N, lambda[k], lambda[k] - (velocity(N) + N.offset_m_s) / N.coupling, 0.0, inf));
       if (N.friction > 0) {
         // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
-        // Each tangent towards no slip, then the pair back into Coulomb's disc (|f| <= mu
-        // lambda): bounding each tangent by mu lambda on its own (a pyramid) let a box
-        // sliding at 45 degrees to the tangents feel sqrt(2) times its friction.
         // Both tangents take one step against the slip, scaled by the largest coupling
         // of the pair (the tangent block's largest eigenvalue), then the pair goes back into
         // Coulomb's disc: at the fixed point, friction is inside the disc with no slip, or
@@ -600,10 +606,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           if (row.friction <= 0) continue;
           Eigen::Vector3d t1, t2;
           tangents(row.normal_W, t1, t2);
-          friction.f1[k] = row.warm_impulse_W_N_s.dot(t1);
-          friction.f2[k] = row.warm_impulse_W_N_s.dot(t2);
-          clamp_to_friction_disc(friction.f1[k], friction.f2[k],
-                                 row.friction * std::max(0.0, row.warm_impulse_W_N_s.dot(row.normal_W)));
+          warm_friction(row, row.warm_impulse_W_N_s, t1, t2, friction.f1[k], friction.f2[k]);
         }
       }
       for (int round = 0; round < rounds; ++round) {
@@ -705,9 +708,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
         if (row.friction <= 0) continue;
         Eigen::Vector3d t1, t2;
         tangents(row.normal_W, t1, t2);
-        friction.f1[k] = start_W.dot(t1);
-        friction.f2[k] = start_W.dot(t2);
-        clamp_to_friction_disc(friction.f1[k], friction.f2[k], row.friction * lambda[k]);
+        warm_friction(row, start_W, t1, t2, friction.f1[k], friction.f2[k]);  // (lambda[k]: its normal part)
         add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
         add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
       }
