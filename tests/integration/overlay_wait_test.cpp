@@ -26,9 +26,12 @@ TEST(OverlayWait, TheWaitingRendererDrawsEachFramesOwnWorld) {
   const nlohmann::json waiting = run_application_two(url, "40");
   for (const nlohmann::json* report : {&at_once, &waiting}) {
     const int captured = (*report)["frames"]["captured"];
-    EXPECT_GE(captured, 150);  // 6 s at 30 FPS
-    EXPECT_GE((*report)["frames"]["rendered"].get<int>(), captured - 3) << "waiting must not cost frames";
-    ASSERT_GE((*report)["registration"]["count"].get<int>(), captured / 2);
+    const char* run = report == &at_once ? "drawing at once" : "waiting";
+    EXPECT_GE(captured, 150) << run;  // 6 s at 30 FPS
+    // A renderer that falls behind keeps the newest frame (latency over completeness), so on a
+    // machine busy beyond its cores a few frames go (5 of 181 under two busy loops on 2 cores).
+    EXPECT_GE((*report)["frames"]["rendered"].get<int>(), captured - captured / 20) << run << ": waiting must not cost frames";
+    ASSERT_GE((*report)["registration"]["count"].get<int>(), captured / 2) << run;
   }
   const int rendered = waiting["frames"]["rendered"];
   const int own = waiting["frames"]["rendered_with_own_world_state"];
