@@ -6,11 +6,14 @@
 // Clock: "messages" (default) steps up to the capture time of the newest tracking
 // frame, so a replayed log (lcm-logplayer) gives the same world states on every run;
 // "wall" steps with the wall clock (a scene without tracking, or a live demo).
+// --max-lag-s bounds how far a simulator that cannot keep up falls behind (live runs; the
+// launcher sets it): past it, the backlog of simulation time is given up, not stepped.
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -198,6 +201,14 @@ int main(int argc, char** argv) {
   app.add_option("--tracking-policy", policy, "override the scene's physics.tracking_policy")
       ->check(CLI::IsMember({"delay", "extrapolate"}));
   app.add_option("--duration", duration_s, "exit after this many wall-clock seconds (0: run until SIGINT)");
+  double max_lag_s = 0;
+  app.add_option("--max-lag-s", max_lag_s,
+                 "live runs: when the simulation falls more than this many seconds behind its clock (the newest "
+                 "capture, or the wall), give the backlog up instead of stepping it, so the overlay stays current "
+                 "and the virtual bodies run slow for a moment; counted in the heartbeat (dropped: steps, "
+                 "dropped_time_s). 0: never (a replay is then the same on every run)")
+      ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
   std::string state_file;
   app.add_option("--state-file", state_file,
                  "keep the last world state here (replaced 5 times a second); when the file exists at start, resume "
@@ -239,6 +250,8 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start, last_checkpoint = start;
   int64_t published = 0, steps_since_status = 0;
+  double wall_clock_dropped_s = 0;  // the wall clock's share of --max-lag-s drops
+  auto last_drop_line = start - std::chrono::seconds(1);
   double stage_ms_since_status = 0;
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
                scene.name.c_str(), core->world().bodies().size(), scene.time_step_s, clock.c_str(),
@@ -248,8 +261,30 @@ int main(int argc, char** argv) {
     if (duration_s > 0 && elapsed_s > duration_s) break;
     bus->handle_timeout_ms(static_cast<int>(std::max(1.0, 1e3 * scene.time_step_s / 2)));
     bus->handle_pending();
-    const double target = clock == "wall" ? elapsed_s
-                                          : (core->clock_started() ? core->sim_time_of(core->newest_capture_utime()) : 0.0);
+    // Where the simulation should be: the newest capture's time, or the wall's.
+    const auto clock_time = [&] {
+      if (clock == "wall")
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - wall_clock_dropped_s;
+      return core->clock_started() ? core->sim_time_of(core->newest_capture_utime()) : 0.0;
+    };
+    // Gives up what is past --max-lag-s. A tracked body covers what is given up in its next
+    // step, so it is given up as it accrues, step by step: a whole backlog at once would be
+    // a hard push.
+    const auto keep_within_max_lag = [&] {
+      const double excess_s = clock_time() - core->sim_time_s() - max_lag_s;
+      if (max_lag_s <= 0 || core->paused() || !(excess_s > 0)) return;
+      core->drop_time(excess_s);
+      wall_clock_dropped_s += excess_s;
+      if (std::chrono::steady_clock::now() - last_drop_line >= std::chrono::seconds(1)) {
+        std::fprintf(stderr,
+                     "arphys-simulator: more than --max-lag-s %.3g s behind at simulation time %.2f s: %.2f s "
+                     "given up so far, the virtual bodies run slow\n",
+                     max_lag_s, core->sim_time_s(), core->dropped_time_s());
+        last_drop_line = std::chrono::steady_clock::now();
+      }
+    };
+    keep_within_max_lag();
+    double target = clock_time();
     while (!g_stop && core->sim_time_s() + scene.time_step_s <= target + 1e-12 && !core->paused()) {
       const int64_t step_start = msg::now_utime();
       core->advance_to(core->sim_time_s() + scene.time_step_s);
@@ -266,6 +301,11 @@ int main(int argc, char** argv) {
       }
       ++steps_since_status;
       stage_ms_since_status += 1e-3 * static_cast<double>(step_end - step_start);
+      if (max_lag_s > 0) {  // (without it, input is taken between batches, as a replay expects)
+        bus->handle_pending();
+        keep_within_max_lag();
+        target = clock_time();
+      }
     }
     const auto now = std::chrono::steady_clock::now();
     if (now - last_status >= std::chrono::seconds(1)) {
@@ -276,6 +316,8 @@ int main(int argc, char** argv) {
       status.rate_hz = steps_since_status / window_s;
       status.stage_duration_ms = steps_since_status ? stage_ms_since_status / steps_since_status : 0.0;
       status.published = published;
+      status.dropped = std::llround(core->dropped_time_s() / scene.time_step_s);  // steps given up (--max-lag-s)
+      if (max_lag_s > 0) msg::add_figure(status, "dropped_time_s", core->dropped_time_s());
       status.rejected += core->rejected_total();
       msg::add_figure(status, "bodies_left_world", static_cast<double>(core->bodies_left_world()));
       if (scene.sleep_after_s > 0) msg::add_figure(status, "bodies_asleep", core->last_report().bodies_asleep);
@@ -291,9 +333,9 @@ int main(int argc, char** argv) {
       stage_ms_since_status = 0;
     }
   }
-  std::fprintf(stderr, "arphys-simulator: %lld world states published, %lld messages received, %lld undecodable, "
-               "%lld refused (last: %s)\n",
-               static_cast<long long>(published), static_cast<long long>(bus->counters().received),
+  std::fprintf(stderr, "arphys-simulator: %lld world states published, %.2f s of simulation given up (--max-lag-s), "
+               "%lld messages received, %lld undecodable, %lld refused (last: %s)\n",
+               static_cast<long long>(published), core->dropped_time_s(), static_cast<long long>(bus->counters().received),
                static_cast<long long>(bus->counters().decode_errors),
                static_cast<long long>(bus->counters().rejected + core->rejected_total()), core->last_rejection().c_str());
   return 0;

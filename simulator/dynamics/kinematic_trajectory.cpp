@@ -30,6 +30,10 @@ int KinematicTrajectory::segment(double t_s) const {
   return static_cast<int>(it - poses_.begin()) - 1;
 }
 
+void KinematicTrajectory::shift_time(double by_s) {
+  for (TimedPose& pose : poses_) pose.t_s += by_s;
+}
+
 void KinematicTrajectory::hold_from(double t_s) {
   if (poses_.empty()) return;
   const geometry::Pose X = pose_at(t_s);

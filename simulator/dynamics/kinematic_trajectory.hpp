@@ -36,6 +36,8 @@ class KinematicTrajectory {
   void forget_before(double t_s);
   // Replaces everything after t_s by the pose the body has at t_s: it stops there.
   void hold_from(double t_s);
+  // Moves every pose by by_s in time (the clock the poses are timed in moved).
+  void shift_time(double by_s);
 
   geometry::Pose pose_at(double t_s) const;
   // The twist in effect at t_s (of the segment containing it; zero outside).

@@ -52,6 +52,21 @@ double SimulatorCore::sim_time_of(int64_t capture_utime) const {
   return static_cast<double>(capture_utime - *first_capture_utime_) * 1e-6;
 }
 
+void SimulatorCore::drop_time(double dropped_s) {
+  if (!(dropped_s > 0) || !std::isfinite(dropped_s))
+    throw std::invalid_argument("SimulatorCore::drop_time: dropped_s must be positive and finite, got " +
+                                std::to_string(dropped_s));
+  const int64_t dropped_us = std::llround(dropped_s * 1e6);
+  const double dropped = static_cast<double>(dropped_us) * 1e-6;  // as the capture mapping moves
+  if (first_capture_utime_) *first_capture_utime_ += dropped_us;
+  for (auto& [id, seen_s] : last_seen_s_) seen_s -= dropped;
+  // The tracked bodies' poses move with their captures, so the next step carries each
+  // body through dropped_s more of its motion: its speed that step is (1 + dropped_s / dt)
+  // times its own, which is why the caller gives up small amounts often, not a backlog at once.
+  for (auto& [id, driver] : drivers_) driver.shift_time(-dropped);
+  dropped_time_s_ += dropped;
+}
+
 int SimulatorCore::on_tracking(const TrackingFrame& frame) {
   if (newest_seq_ != 0 || newest_capture_utime_ != 0) {
     if (frame.seq == newest_seq_ && frame.capture_utime == newest_capture_utime_) {

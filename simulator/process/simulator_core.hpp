@@ -94,6 +94,16 @@ class SimulatorCore {
   int advance_to(double t_s);
   // The simulation time a capture time maps to (after the first frame; else 0).
   double sim_time_of(int64_t capture_utime) const;
+  // Gives up dropped_s of simulation time, for a live simulator that cannot keep up with
+  // the camera: instead of falling ever further behind it (seconds of lag in the overlay),
+  // it runs the virtual bodies slow for a moment, as a game engine's cap on substeps does.
+  // Captures, and the tracked bodies' poses, map dropped_s earlier from now on: the next
+  // step carries each tracked body through dropped_s more of its motion (no jump, but a
+  // push that much faster for one step; give up small amounts). Not for replays: when it
+  // drops depends on the machine's speed. Throws unless dropped_s > 0 and finite.
+  void drop_time(double dropped_s);
+  // Simulation time given up so far (drop_time), seconds.
+  double dropped_time_s() const { return dropped_time_s_; }
   bool clock_started() const { return first_capture_utime_.has_value(); }
 
   double sim_time_s() const { return world_.time_s(); }
@@ -143,6 +153,7 @@ class SimulatorCore {
   std::string last_rejection_;
   int64_t bodies_left_world_ = 0;
   std::string last_body_left_world_;
+  double dropped_time_s_ = 0;
 };
 
 }  // namespace arphys::sim

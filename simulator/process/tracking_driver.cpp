@@ -32,7 +32,7 @@ double TrackingDriver::earliest_arrival(double t_s, const geometry::Pose& from, 
 }
 
 void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s) {
-  const bool first = last_capture_s_ < 0 || lost_;
+  const bool first = !captured_ || lost_;
   if (!first) {
     // The frame interval, smoothed, bounded to sane camera rates (5 to 1000 Hz).
     const double interval = std::clamp(capture_t_s - last_capture_s_, 1e-3, 0.2);
@@ -67,8 +67,14 @@ void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, dou
   }
   trajectory_.forget_before(now_s - 1.0);
   last_capture_s_ = capture_t_s;
+  captured_ = true;
   last_pose_ = X_WO;
   lost_ = false;
+}
+
+void TrackingDriver::shift_time(double by_s) {
+  trajectory_.shift_time(by_s);
+  last_capture_s_ += by_s;
 }
 
 void TrackingDriver::hold_at(double t_s, const geometry::Pose& X_WO) {

@@ -38,9 +38,13 @@ class TrackingDriver {
   // simulator knows where the body was.
   void hold_at(double t_s, const geometry::Pose& X_WO);
 
+  // The simulation clock moved by by_s against capture times (SimulatorCore::drop_time):
+  // every pose, and the last capture, is timed by_s later.
+  void shift_time(double by_s);
+
   const dynamics::KinematicTrajectory& trajectory() const { return trajectory_; }
   bool has_pose() const { return !trajectory_.empty(); }
-  double last_capture_s() const { return last_capture_s_; }
+  double last_capture_s() const { return last_capture_s_; }  // meaningless before the first pose
   // Added latency of the policy, seconds (one frame interval for kDelay, 0 otherwise).
   double added_latency_s() const { return policy_ == TrackingPolicy::kDelay ? frame_interval_s_ : 0.0; }
 
@@ -52,7 +56,8 @@ class TrackingDriver {
   double max_speed_m_s_, max_rate_rad_s_;
   dynamics::KinematicTrajectory trajectory_;
   double frame_interval_s_;
-  double last_capture_s_ = -1;
+  double last_capture_s_ = 0;
+  bool captured_ = false;  // a pose has come
   geometry::Pose last_pose_ = geometry::Pose::Identity();
   bool lost_ = true;
 };

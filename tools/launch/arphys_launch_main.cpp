@@ -156,7 +156,7 @@ int main(int argc, char** argv) {
   std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
   std::string tracker_filter = "constant_velocity";
-  double duration_s = 20, spawn_every_s = 1.0, renderer_wait_ms = 0;
+  double duration_s = 20, spawn_every_s = 1.0, renderer_wait_ms = 0, sim_max_lag_s = 0.1;
   bool record = false, restart = false;
   double receive_loss = 0;
   std::string tracking_policy;
@@ -187,6 +187,11 @@ int main(int argc, char** argv) {
                  "the renderer holds each frame up to this long for the world state computed from it (renderer "
                  "--wait-ms): the overlay shows the frame's own world, later")
       ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  app.add_option("--sim-max-lag-s", sim_max_lag_s,
+                 "a simulator falling further behind the camera than this gives the backlog up (its virtual bodies "
+                 "run slow for a moment) instead of lagging ever more (arphys-simulator --max-lag-s; 0: never)")
+      ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
   app.add_option("--receive-loss", receive_loss,
                  "fault injection: every started process drops this fraction of the messages it receives, at random "
@@ -290,6 +295,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> args{b + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url, "--duration", seconds,
                                   "--state-file", state_file};
     if (!tracking_policy.empty()) args.insert(args.end(), {"--tracking-policy", tracking_policy});
+    if (sim_max_lag_s > 0) args.insert(args.end(), {"--max-lag-s", std::to_string(sim_max_lag_s)});
     start_child("simulator", args);
   }
   if (wanted("renderer")) {
@@ -442,6 +448,13 @@ int main(int argc, char** argv) {
   report["memory"] = memory.to_json();
   report["receive_loss"] = receive_loss;
   report["tracking_policy"] = tracking_policy.empty() ? scene.tracking_policy : tracking_policy;
+  // The simulation time the simulator gave up to keep within --sim-max-lag-s of the camera.
+  report["simulator"] = {{"max_lag_s", sim_max_lag_s}, {"dropped_time_s", nullptr}};
+  if (const auto it = heartbeats.find("simulator"); it != heartbeats.end()) {
+    for (int i = 0; i < it->second.num_figures; ++i) {
+      if (it->second.figure_names[i] == "dropped_time_s") report["simulator"]["dropped_time_s"] = it->second.figure_values[i];
+    }
+  }
   if (registration) {
     report["registration"] = registration->to_json();
     const auto& r = report["registration"];
@@ -452,6 +465,10 @@ int main(int argc, char** argv) {
     }
   }
   latency.print();
+  if (report["simulator"]["dropped_time_s"].is_number() && report["simulator"]["dropped_time_s"].get<double>() > 0) {
+    std::printf("simulator: gave up %.2f s of simulation to stay within %.3g s of the camera (--sim-max-lag-s)\n",
+                report["simulator"]["dropped_time_s"].get<double>(), sim_max_lag_s);
+  }
   if (!out_dir.empty()) {
     std::ofstream(out_dir + "/latency.json") << report.dump(2) << "\n";
     latency.write_samples_csv(out_dir + "/latency_samples.csv");  // for tools/launch/latency_cdf.gp

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <stdexcept>
+
 #include "simulator/collision/discrete_query.hpp"
 
 namespace arphys::sim {
@@ -69,6 +72,45 @@ TEST(SimulatorCore, ExtrapolatePolicyAddsNoLatency) {
   core.advance_to(core.sim_time_of(kStart + 30 * 33'333));
   EXPECT_EQ(core.added_latency_s("box"), 0.0);
   EXPECT_NEAR(core.world().bodies()[box].X_WB.translation().x(), 0.55, 3e-3);
+}
+
+// A live simulator that cannot keep up gives simulation time up (arphys-simulator
+// --max-lag-s): captures map that much earlier, and the tracked box covers it in its next
+// step, then follows its frames one frame late as before.
+TEST(SimulatorCore, GivenUpTimeMovesCapturesEarlierAndTheTrackedBoxCoversIt) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  scene.time_step_s = 0.01;
+  SimulatorCore core(scene, {});
+  const int box = core.world().find("box");
+  const auto box_x = [&] { return core.world().bodies()[box].X_WB.translation().x(); };
+  for (int k = 0; k <= 30; ++k)  // 1 s at 30 Hz, moving +x at 0.3 m/s
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+  const int64_t newest = kStart + 30 * 33'333;
+  core.advance_to(core.sim_time_of(newest));
+  const double mapped_before_s = core.sim_time_of(newest), x_before = box_x();
+
+  core.drop_time(0.005);
+  EXPECT_NEAR(core.sim_time_of(newest), mapped_before_s - 0.005, 1e-9);
+  EXPECT_DOUBLE_EQ(core.dropped_time_s(), 0.005);
+  EXPECT_EQ(core.advance_to(core.sim_time_s() + 0.01), 1);
+  // 15 ms of its 0.3 m/s motion in one 10 ms step (held at its pose, it would move 3 mm
+  // and then have to catch up).
+  EXPECT_NEAR(box_x() - x_before, 0.0045, 2e-4);
+  EXPECT_TRUE(core.lost_objects().empty());
+  for (int k = 31; k <= 45; ++k) {
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+    core.advance_to(core.sim_time_of(kStart + k * 33'333));
+  }
+  EXPECT_NEAR(box_x(), 0.69, 4e-3);  // one frame behind the last measurement (0.70)
+  for (const double bad : {0.0, -0.1, std::nan(""), HUGE_VAL}) {
+    try {
+      core.drop_time(bad);
+      ADD_FAILURE() << "drop_time(" << bad << ") accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("dropped_s"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_DOUBLE_EQ(core.dropped_time_s(), 0.005);
 }
 
 TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
