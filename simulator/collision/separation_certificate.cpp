@@ -1,6 +1,8 @@
 #include "simulator/collision/separation_certificate.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 namespace arphys::collision {
 namespace {
@@ -47,6 +49,21 @@ bool face_keeps_apart(const Eigen::Vector3d& half_A, const geometry::ScrewMotion
 }
 
 }  // namespace
+
+double box_gap_lower_bound_m(const Eigen::Vector3d& half_extents_A_m, const geometry::Pose& X_WA,
+                             const Eigen::Vector3d& half_extents_B_m, const geometry::Pose& X_WB) {
+  const Eigen::Vector3d d_W = X_WB.translation() - X_WA.translation();
+  // R(i, k): A's axis i along B's axis k.
+  const Eigen::Matrix3d R = X_WA.linear().transpose() * X_WB.linear();
+  const Eigen::Matrix3d R_abs = R.cwiseAbs();
+  const Eigen::Vector3d d_A = X_WA.linear().transpose() * d_W, d_B = X_WB.linear().transpose() * d_W;
+  double gap = -std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i) {
+    gap = std::max(gap, std::abs(d_A[i]) - half_extents_A_m[i] - R_abs.row(i).dot(half_extents_B_m));
+    gap = std::max(gap, std::abs(d_B[i]) - half_extents_B_m[i] - R_abs.col(i).dot(half_extents_A_m));
+  }
+  return gap;
+}
 
 bool boxes_stay_apart(const Eigen::Vector3d& half_extents_A_m, const geometry::ScrewMotion& motion_A,
                       const Eigen::Vector3d& half_extents_B_m, const geometry::ScrewMotion& motion_B) {
