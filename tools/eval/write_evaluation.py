@@ -347,11 +347,12 @@ def main():
       "and the bunnies run slow for that moment (2-3.8 s given up in a 20 s main job; pose -> world state max "
       "122-314 ms against 1168-1489 ms unbounded). The quick run has no "
       "N = 1000 drop, where we stay within a few micrometres of overlap but are far slower per step than ODE "
-      "quickstep: 6x frictionless and 7x with friction over the first second (5x and 7x allowing 10 um, the "
-      "arphys-10um rows); over the 2 s the anchor measured, 3.6-4.8x with friction (isotropic Coulomb friction since the nineteenth "
-      "session, at no cost in time) and 13x frictionless (nineteenth session; frictionless 50x before resting pairs of boxes were left unswept up to "
+      "quickstep: 4x frictionless and 6.5x with friction over the first second (4x and 6.4x allowing 10 um, the "
+      "arphys-10um rows); over the 2 s the anchor measured, 4.5x with friction (isotropic Coulomb friction since the nineteenth "
+      "session) and 12x frictionless (twentieth session, since box pairs further apart than they move in a step are not "
+      "swept; 13x before; 50x before resting pairs of boxes were left unswept up to "
       "10 mm of relative motion a step, in the seventeenth), where the pile spreads over its frictionless floor "
-      "and every strike is an exact impact (9x allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios "
+      "and every strike is an exact impact (7x allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios "
       "moved by a fifth between runs of the same code on this shared machine.\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
