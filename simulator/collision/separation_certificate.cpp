@@ -65,6 +65,38 @@ double box_gap_lower_bound_m(const Eigen::Vector3d& half_extents_A_m, const geom
   return gap;
 }
 
+double gap_lower_bound_m(const Shape& A, const geometry::Pose& X_WA, const Shape& B, const geometry::Pose& X_WB) {
+  // The shape's bounding box: its pose in the world and its half extents.
+  const auto bounding_box = [](const Shape& shape, const geometry::Pose& X_WS, geometry::Pose& X_WO, Eigen::Vector3d& half_m) {
+    switch (shape.type()) {
+      case Shape::Type::kPlane:
+        return false;
+      case Shape::Type::kSphere:
+        X_WO = X_WS;
+        half_m.setConstant(shape.radius_m());
+        return true;
+      case Shape::Type::kBox:
+        X_WO = X_WS;
+        half_m = 0.5 * shape.size_m();
+        return true;
+      case Shape::Type::kMesh: {
+        const Obb& root = shape.triangles()->tree().root().box;
+        geometry::Pose X_SO = geometry::Pose::Identity();
+        X_SO.linear() = root.axes;
+        X_SO.translation() = root.center;
+        X_WO = X_WS * X_SO;
+        half_m = root.half_extents_m;
+        return true;
+      }
+    }
+    return false;
+  };
+  geometry::Pose X_WOA, X_WOB;
+  Eigen::Vector3d half_A, half_B;
+  if (!bounding_box(A, X_WA, X_WOA, half_A) || !bounding_box(B, X_WB, X_WOB, half_B)) return -1;
+  return box_gap_lower_bound_m(half_A, X_WOA, half_B, X_WOB);
+}
+
 bool boxes_stay_apart(const Eigen::Vector3d& half_extents_A_m, const geometry::ScrewMotion& motion_A,
                       const Eigen::Vector3d& half_extents_B_m, const geometry::ScrewMotion& motion_B) {
   for (int axis = 0; axis < 3; ++axis) {

@@ -14,6 +14,7 @@
 // the CCD then decides.
 #include <Eigen/Core>
 
+#include "simulator/collision/shape.hpp"
 #include "simulator/geometry/screw_motion.hpp"
 
 namespace arphys::collision {
@@ -24,6 +25,10 @@ namespace arphys::collision {
 // test of a few dozen flops where the screw-motion proof above builds both motions.
 double box_gap_lower_bound_m(const Eigen::Vector3d& half_extents_A_m, const geometry::Pose& X_WA,
                              const Eigen::Vector3d& half_extents_B_m, const geometry::Pose& X_WB);
+
+// The same for any two shapes but planes (which give -1): the gap between their bounding
+// boxes, a box itself, a mesh's root box, a sphere's cube.
+double gap_lower_bound_m(const Shape& A, const geometry::Pose& X_WA, const Shape& B, const geometry::Pose& X_WB);
 
 bool boxes_stay_apart(const Eigen::Vector3d& half_extents_A_m, const geometry::ScrewMotion& motion_A,
                       const Eigen::Vector3d& half_extents_B_m, const geometry::ScrewMotion& motion_B);

@@ -659,15 +659,12 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
           resting_pairs && ((primitive(a) && primitive(b)) || apart_at_start) &&
           relative_motion_m <= max_unswept_motion_m(a, b) &&
           std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
-      // Two boxes further apart at the start than their points move relative to each other
-      // cannot meet in the step (in a tumbling pile, most of the pairs whose swept boxes
-      // overlap): proven without building their motions.
-      const bool boxes_far_apart =
-          !resting_slowly && a.shape.type() == collision::Shape::Type::kBox &&
-          b.shape.type() == collision::Shape::Type::kBox &&
-          collision::box_gap_lower_bound_m(0.5 * a.shape.size_m(), a.X_WB, 0.5 * b.shape.size_m(), b.X_WB) >
-              relative_motion_m + curve[p] + curve[q] + kGapRounding_m;
-      const bool swept_by_ccd = !resting_slowly && !boxes_far_apart;
+      // Two bodies whose bounding boxes are further apart at the start than their points
+      // move relative to each other cannot meet in the step (in a tumbling pile, most of
+      // the pairs whose swept boxes overlap): proven without building their motions.
+      const bool far_apart = !resting_slowly && collision::gap_lower_bound_m(a.shape, a.X_WB, b.shape, b.X_WB) >
+                                                    relative_motion_m + curve[p] + curve[q] + kGapRounding_m;
+      const bool swept_by_ccd = !resting_slowly && !far_apart;
       collision::ContinuousOptions ccd = options_.ccd;
       ccd.apart_at_start = apart_at_start;
       query = {true, next[p], next[q],
