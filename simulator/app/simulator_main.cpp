@@ -270,9 +270,10 @@ int main(int argc, char** argv) {
     // Gives up what is past --max-lag-s. A tracked body covers what is given up in its next
     // step, so it is given up as it accrues, step by step: a whole backlog at once would be
     // a hard push.
-    const auto keep_within_max_lag = [&] {
+    // Returns the time given up.
+    const auto keep_within_max_lag = [&]() -> double {
       const double excess_s = clock_time() - core->sim_time_s() - max_lag_s;
-      if (max_lag_s <= 0 || core->paused() || !(excess_s > 0)) return;
+      if (max_lag_s <= 0 || core->paused() || !(excess_s > 0)) return 0.0;
       core->drop_time(excess_s);
       wall_clock_dropped_s += excess_s;
       if (std::chrono::steady_clock::now() - last_drop_line >= std::chrono::seconds(1)) {
@@ -282,6 +283,7 @@ int main(int argc, char** argv) {
                      max_lag_s, core->sim_time_s(), core->dropped_time_s());
         last_drop_line = std::chrono::steady_clock::now();
       }
+      return excess_s;
     };
     keep_within_max_lag();
     double target = clock_time();
@@ -301,10 +303,12 @@ int main(int argc, char** argv) {
       }
       ++steps_since_status;
       stage_ms_since_status += 1e-3 * static_cast<double>(step_end - step_start);
-      if (max_lag_s > 0) {  // (without it, input is taken between batches, as a replay expects)
+      // The batch ends where it was to end, less what is given up: new frames wait for the
+      // next batch, so a simulator that is always behind still gets to its heartbeat.
+      // (Without --max-lag-s, input is taken between batches only, as a replay expects.)
+      if (max_lag_s > 0) {
         bus->handle_pending();
-        keep_within_max_lag();
-        target = clock_time();
+        target -= keep_within_max_lag();
       }
     }
     const auto now = std::chrono::steady_clock::now();

@@ -173,4 +173,37 @@ TEST(SimulatorProcess, AHeldUpSimulatorGivesUpItsBacklogPastMaxLag) {
   std::printf("given up %.3f s; %d world states from captures after the stop\n", dropped_s, after_the_stop);
 }
 
+// A simulator that is always behind (a 1000-box pile at 1 ms steps, some 20 ms each, on the
+// wall clock) keeps giving time up and still publishes its heartbeat once a second: the
+// steps of a batch go on to where the batch was to end, not to the newest clock reading.
+TEST(SimulatorProcess, AnAlwaysBehindSimulatorStillBeatsOnceASecond) {
+  const std::string url = "udpm://239.255.76.67:7989?ttl=0";  // its own port, as above
+  {
+    lcm::LCM probe(url);
+    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  }
+  arphys::msg::Bus bus(url);
+  std::vector<arphys::process_status_t> statuses;
+  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
+                                                               const std::string&) { statuses.push_back(m); });
+  const pid_t sim = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
+                           std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/drop1000.yaml", "--lcm-url", url,
+                           "--clock", "wall", "--max-lag-s", "0.1", "--duration", "30"});
+  ASSERT_GT(sim, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(6);
+  while (std::chrono::steady_clock::now() < deadline) bus.handle_timeout_ms(100);
+  kill(sim, SIGTERM);
+  int status = 0;
+  waitpid(sim, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "exit status " << status;
+  ASSERT_GE(statuses.size(), 4u);  // 6 s, the first second or so loading the scene
+  for (std::size_t k = 1; k < statuses.size(); ++k)
+    EXPECT_LT(statuses[k].uptime_s - statuses[k - 1].uptime_s, 1.6) << "heartbeat " << k;
+  double dropped_s = 0;
+  for (int i = 0; i < statuses.back().num_figures; ++i)
+    if (statuses.back().figure_names[i] == "dropped_time_s") dropped_s = statuses.back().figure_values[i];
+  EXPECT_GT(dropped_s, 1.0);  // it simulates a small part of each second
+  std::printf("%zu heartbeats, %.2f s given up by uptime %.1f s\n", statuses.size(), dropped_s, statuses.back().uptime_s);
+}
+
 }  // namespace

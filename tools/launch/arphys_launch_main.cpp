@@ -426,7 +426,12 @@ int main(int argc, char** argv) {
       line << "t " << elapsed << " s";
       for (const auto& [name, s] : heartbeats) {
         line << " | " << name << " " << s.rate_hz << " Hz " << s.stage_duration_ms << " ms";
-        if (s.dropped) line << " drop " << s.dropped;
+        if (name == "simulator" && s.dropped) {
+          // The simulator's drops are steps of simulation given up (--sim-max-lag-s).
+          line << " gave up " << s.dropped << " steps";
+        } else if (s.dropped) {
+          line << " drop " << s.dropped;
+        }
         if (s.rejected) line << " rej " << s.rejected;
       }
       std::fprintf(stderr, "%s\n", line.str().c_str());
