@@ -113,6 +113,31 @@ TEST(SimulatorCore, GivenUpTimeMovesCapturesEarlierAndTheTrackedBoxCoversIt) {
   EXPECT_DOUBLE_EQ(core.dropped_time_s(), 0.005);
 }
 
+// The same under the extrapolate policy: the box covers the time given up along its
+// measured twist and then stays on its measurements, with no latency.
+TEST(SimulatorCore, GivenUpTimeLeavesAnExtrapolatedBoxOnItsMeasurements) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  scene.time_step_s = 0.01;
+  CoreOptions options;
+  options.policy = TrackingPolicy::kExtrapolate;
+  SimulatorCore core(scene, options);
+  const int box = core.world().find("box");
+  const auto box_x = [&] { return core.world().bodies()[box].X_WB.translation().x(); };
+  for (int k = 0; k <= 30; ++k) {
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+    core.advance_to(core.sim_time_of(kStart + k * 33'333));
+  }
+  const double x_before = box_x();
+  core.drop_time(0.005);
+  EXPECT_EQ(core.advance_to(core.sim_time_s() + 0.01), 1);
+  EXPECT_NEAR(box_x() - x_before, 0.0045, 3e-4);
+  for (int k = 31; k <= 45; ++k) {
+    core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+    core.advance_to(core.sim_time_of(kStart + k * 33'333));
+  }
+  EXPECT_NEAR(box_x(), 0.70, 3e-3);
+}
+
 TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
   SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
   const std::size_t before = core.world().bodies().size();
