@@ -40,4 +40,10 @@ void add_figure(arphys::process_status_t& status, const std::string& name, doubl
   status.num_figures = static_cast<int32_t>(status.figure_names.size());
 }
 
+std::optional<double> figure(const arphys::process_status_t& status, const std::string& name) {
+  for (int i = 0; i < status.num_figures; ++i)
+    if (status.figure_names[i] == name) return status.figure_values[i];
+  return std::nullopt;
+}
+
 }  // namespace arphys::msg

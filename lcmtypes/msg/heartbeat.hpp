@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <string>
 
 #include "arphys/process_status_t.hpp"
@@ -14,5 +15,7 @@ arphys::process_status_t heartbeat(const std::string& name, const std::string& i
 
 // Appends a named figure (keeps num_figures in step).
 void add_figure(arphys::process_status_t& status, const std::string& name, double value);
+// The named figure of a heartbeat, if it has one.
+std::optional<double> figure(const arphys::process_status_t& status, const std::string& name);
 
 }  // namespace arphys::msg

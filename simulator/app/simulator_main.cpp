@@ -256,35 +256,34 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
                scene.name.c_str(), core->world().bodies().size(), scene.time_step_s, clock.c_str(),
                sim::to_string(options.policy), bus->url().c_str());
+  // Where the simulation should be: the newest capture's time, or the wall's.
+  const auto clock_time = [&] {
+    if (clock == "wall")
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - wall_clock_dropped_s;
+    return core->clock_started() ? core->sim_time_of(core->newest_capture_utime()) : 0.0;
+  };
+  // Gives up what is past --max-lag-s and returns it. A tracked body covers what is given up
+  // in its next step, so it is given up as it accrues, step by step: a whole backlog at once
+  // would be a hard push.
+  const auto keep_within_max_lag = [&]() -> double {
+    const double excess_s = clock_time() - core->sim_time_s() - max_lag_s;
+    if (max_lag_s <= 0 || core->paused() || !(excess_s > 0)) return 0.0;
+    core->drop_time(excess_s);
+    wall_clock_dropped_s += excess_s;
+    if (std::chrono::steady_clock::now() - last_drop_line >= std::chrono::seconds(1)) {
+      std::fprintf(stderr,
+                   "arphys-simulator: more than --max-lag-s %.3g s behind at simulation time %.2f s: %.2f s "
+                   "given up so far, the virtual bodies run slow\n",
+                   max_lag_s, core->sim_time_s(), core->dropped_time_s());
+      last_drop_line = std::chrono::steady_clock::now();
+    }
+    return excess_s;
+  };
   while (!g_stop) {
     const double elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (duration_s > 0 && elapsed_s > duration_s) break;
     bus->handle_timeout_ms(static_cast<int>(std::max(1.0, 1e3 * scene.time_step_s / 2)));
     bus->handle_pending();
-    // Where the simulation should be: the newest capture's time, or the wall's.
-    const auto clock_time = [&] {
-      if (clock == "wall")
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() - wall_clock_dropped_s;
-      return core->clock_started() ? core->sim_time_of(core->newest_capture_utime()) : 0.0;
-    };
-    // Gives up what is past --max-lag-s. A tracked body covers what is given up in its next
-    // step, so it is given up as it accrues, step by step: a whole backlog at once would be
-    // a hard push.
-    // Returns the time given up.
-    const auto keep_within_max_lag = [&]() -> double {
-      const double excess_s = clock_time() - core->sim_time_s() - max_lag_s;
-      if (max_lag_s <= 0 || core->paused() || !(excess_s > 0)) return 0.0;
-      core->drop_time(excess_s);
-      wall_clock_dropped_s += excess_s;
-      if (std::chrono::steady_clock::now() - last_drop_line >= std::chrono::seconds(1)) {
-        std::fprintf(stderr,
-                     "arphys-simulator: more than --max-lag-s %.3g s behind at simulation time %.2f s: %.2f s "
-                     "given up so far, the virtual bodies run slow\n",
-                     max_lag_s, core->sim_time_s(), core->dropped_time_s());
-        last_drop_line = std::chrono::steady_clock::now();
-      }
-      return excess_s;
-    };
     keep_within_max_lag();
     double target = clock_time();
     while (!g_stop && core->sim_time_s() + scene.time_step_s <= target + 1e-12 && !core->paused()) {

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "tests/support/launch_watch.hpp"
 
 namespace {
@@ -17,10 +18,7 @@ namespace {
 const std::string kUrl = "udpm://239.255.76.67:7662?ttl=0";
 
 double figure(const arphys::process_status_t& status, const std::string& name) {
-  for (int i = 0; i < status.num_figures; ++i) {
-    if (status.figure_names[i] == name) return status.figure_values[i];
-  }
-  return -1;
+  return arphys::msg::figure(status, name).value_or(-1);
 }
 
 TEST(PacketLoss, PipelineRunsThroughTwentyPercentLoss) {

@@ -13,6 +13,8 @@
 #include "arphys/process_status_t.hpp"
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
+#include "tests/support/launch_watch.hpp"
 #include "tests/support/spawn_process.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
@@ -41,49 +43,62 @@ arphys::object_poses_t box_frame(int64_t utime, int64_t seq, double x) {
   return m;
 }
 
-TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
-  {
-    lcm::LCM probe(kUrl);
-    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+// The test's side of the bus: every heartbeat and (unless told not to: a 1000-box world
+// state every step is a lot to decode) every world state, as they come.
+struct SimulatorWatch {
+  explicit SimulatorWatch(const std::string& url, bool keep_world_states = true) : bus(url) {
+    if (keep_world_states)
+      bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE",
+                                           [this](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
+                                                  const std::string&) { states.push_back(m); });
+    bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS",
+                                            [this](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
+                                                   const std::string&) { statuses.push_back(m); });
   }
-  arphys::msg::Bus bus(kUrl);
+  arphys::msg::Bus bus;
   std::vector<arphys::world_state_t> states;
   std::vector<arphys::process_status_t> statuses;
-  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
-                                                                 const std::string&) { states.push_back(m); });
-  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
-                                                               const std::string&) { statuses.push_back(m); });
-  const pid_t sim = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
-                           std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kUrl,
-                           "--clock", "messages", "--duration", "20"});
+};
+
+// The simulator process on a scene, with extra arguments.
+pid_t start_simulator(const std::string& scene, const std::string& url, std::vector<std::string> args) {
+  std::vector<std::string> command{std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
+                                   std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/" + scene, "--lcm-url", url};
+  command.insert(command.end(), args.begin(), args.end());
+  return arphys::testing::spawn_process(command);
+}
+
+TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
+  if (!arphys::testing::multicast_works(kUrl))
+    GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  SimulatorWatch watch(kUrl);
+  const pid_t sim = start_simulator("bunny_box_table.yaml", kUrl, {"--clock", "messages", "--duration", "20"});
   ASSERT_GT(sim, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let it load the scene and join the group
 
   const int64_t t0 = arphys::msg::now_utime();
   // Garbage on the tracking channel, and a frame with a NaN pose: counted, dropped.
   const char garbage[] = "definitely not an object_poses_t";
-  bus.publish_raw("ARPHYS_OBJECT_POSES", garbage, sizeof garbage);
+  watch.bus.publish_raw("ARPHYS_OBJECT_POSES", garbage, sizeof garbage);
   arphys::object_poses_t nan_frame = box_frame(t0 - 1000, 0, 0.25);
   nan_frame.objects[0].X_WO.position_m[0] = std::nan("");
-  bus.publish("ARPHYS_OBJECT_POSES", nan_frame);
+  watch.bus.publish("ARPHYS_OBJECT_POSES", nan_frame);
   // One second of a tracked box moving -x at 0.3 m/s, at 30 Hz (replayed time: capture
   // stamps spaced by 33 ms, sent faster than real time).
   for (int k = 0; k <= 30; ++k) {
-    bus.publish("ARPHYS_OBJECT_POSES", box_frame(t0 + k * 33'333, k + 1, 0.25 - 0.01 * k));
+    watch.bus.publish("ARPHYS_OBJECT_POSES", box_frame(t0 + k * 33'333, k + 1, 0.25 - 0.01 * k));
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    bus.handle_pending();
+    watch.bus.handle_pending();
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (std::chrono::steady_clock::now() < deadline &&
-         (states.empty() || states.back().sim_time_s < 0.99 || statuses.size() < 2))
-    bus.handle_timeout_ms(100);
-  kill(sim, SIGTERM);
-  int status = 0;
-  waitpid(sim, &status, 0);
+         (watch.states.empty() || watch.states.back().sim_time_s < 0.99 || watch.statuses.size() < 2))
+    watch.bus.handle_timeout_ms(100);
+  const int status = arphys::testing::stop_process(sim);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "exit status " << status;
 
-  ASSERT_FALSE(states.empty());
-  const arphys::world_state_t& last = states.back();
+  ASSERT_FALSE(watch.states.empty());
+  const arphys::world_state_t& last = watch.states.back();
   EXPECT_NEAR(last.sim_time_s, 1.0, 0.02);
   EXPECT_EQ(last.utime, t0 + 30 * 33'333);  // the newest capture used
   EXPECT_EQ(last.seq, 31);
@@ -98,11 +113,11 @@ TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
   }
   EXPECT_TRUE(found_box);
   EXPECT_GE(bunnies, 1);
-  ASSERT_FALSE(statuses.empty());
-  EXPECT_EQ(statuses.back().name, "simulator");
-  EXPECT_GE(statuses.back().decode_errors, 1);
-  EXPECT_GE(statuses.back().rejected, 1);
-  EXPECT_GT(statuses.back().published, 25);  // 1 s at 50 steps per second
+  ASSERT_FALSE(watch.statuses.empty());
+  EXPECT_EQ(watch.statuses.back().name, "simulator");
+  EXPECT_GE(watch.statuses.back().decode_errors, 1);
+  EXPECT_GE(watch.statuses.back().rejected, 1);
+  EXPECT_GT(watch.statuses.back().published, 25);  // 1 s at 50 steps per second
 }
 
 // A live simulator held up (here stopped for 1.5 s, as a starved process is) while the
@@ -111,21 +126,12 @@ TEST(SimulatorProcess, FollowsTrackedPosesAndCountsBadMessages) {
 TEST(SimulatorProcess, AHeldUpSimulatorGivesUpItsBacklogPastMaxLag) {
   // Its own port: ctest runs the tests of this file side by side.
   const std::string url = "udpm://239.255.76.67:7990?ttl=0";
-  {
-    lcm::LCM probe(url);
-    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
-  }
-  arphys::msg::Bus bus(url);
-  std::vector<arphys::world_state_t> states;
-  std::vector<arphys::process_status_t> statuses;
-  bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m, const lcm::ReceiveBuffer&,
-                                                                 const std::string&) { states.push_back(m); });
-  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
-                                                               const std::string&) { statuses.push_back(m); });
+  if (!arphys::testing::multicast_works(url))
+    GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  SimulatorWatch watch(url);
   const double max_lag_s = 0.1;
-  const pid_t sim = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
-                           std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", url,
-                           "--clock", "messages", "--max-lag-s", std::to_string(max_lag_s), "--duration", "20"});
+  const pid_t sim = start_simulator("bunny_box_table.yaml", url,
+                                    {"--clock", "messages", "--max-lag-s", std::to_string(max_lag_s), "--duration", "20"});
   ASSERT_GT(sim, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // let it load the scene and join the group
   // 3 s of a tracked box moving +x at 0.1 m/s, in real time at 30 Hz; the simulator is
@@ -142,33 +148,29 @@ TEST(SimulatorProcess, AHeldUpSimulatorGivesUpItsBacklogPastMaxLag) {
       resumed = kill(sim, SIGCONT) == 0;
       resumed_capture = t0 + k * 33'333;
     }
-    bus.publish("ARPHYS_OBJECT_POSES", box_frame(t0 + k * 33'333, k + 1, 0.1 + 0.1 * t_s));
-    bus.handle_pending();
+    watch.bus.publish("ARPHYS_OBJECT_POSES", box_frame(t0 + k * 33'333, k + 1, 0.1 + 0.1 * t_s));
+    watch.bus.handle_pending();
   }
   ASSERT_TRUE(stopped && resumed);
   // (Long enough for a heartbeat after the last capture: they come once a second.)
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(1500);
-  while (std::chrono::steady_clock::now() < deadline) bus.handle_timeout_ms(50);
-  kill(sim, SIGTERM);
-  int status = 0;
-  waitpid(sim, &status, 0);
+  while (std::chrono::steady_clock::now() < deadline) watch.bus.handle_timeout_ms(50);
+  const int status = arphys::testing::stop_process(sim);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "exit status " << status;
 
   // The simulation ends as far behind the last capture (3 s) as it gave up: 1.4 s, the stop
   // less the bound (stepping the backlog instead, it would end at 3 s, after some 100 world
   // states from the captures taken after the stop; giving it up, some 30).
-  ASSERT_FALSE(states.empty());
-  ASSERT_FALSE(statuses.empty());
-  double dropped_s = -1;
-  for (int i = 0; i < statuses.back().num_figures; ++i)
-    if (statuses.back().figure_names[i] == "dropped_time_s") dropped_s = statuses.back().figure_values[i];
-  const arphys::world_state_t& last = states.back();
+  ASSERT_FALSE(watch.states.empty());
+  ASSERT_FALSE(watch.statuses.empty());
+  const double dropped_s = arphys::msg::figure(watch.statuses.back(), "dropped_time_s").value_or(-1);
+  const arphys::world_state_t& last = watch.states.back();
   EXPECT_EQ(last.utime, t0 + 90 * 33'333);
   EXPECT_NEAR(dropped_s, 1.5 - max_lag_s, 0.25);
   EXPECT_NEAR(3.0 - last.sim_time_s, dropped_s, 0.03);
-  EXPECT_EQ(statuses.back().dropped, std::llround(dropped_s / 0.02));  // in steps of 20 ms
+  EXPECT_EQ(watch.statuses.back().dropped, std::llround(dropped_s / 0.02));  // in steps of 20 ms
   int after_the_stop = 0;
-  for (const auto& state : states) after_the_stop += state.utime >= resumed_capture;
+  for (const auto& state : watch.states) after_the_stop += state.utime >= resumed_capture;
   EXPECT_LE(after_the_stop, 45);
   std::printf("given up %.3f s; %d world states from captures after the stop\n", dropped_s, after_the_stop);
 }
@@ -178,32 +180,21 @@ TEST(SimulatorProcess, AHeldUpSimulatorGivesUpItsBacklogPastMaxLag) {
 // steps of a batch go on to where the batch was to end, not to the newest clock reading.
 TEST(SimulatorProcess, AnAlwaysBehindSimulatorStillBeatsOnceASecond) {
   const std::string url = "udpm://239.255.76.67:7989?ttl=0";  // its own port, as above
-  {
-    lcm::LCM probe(url);
-    if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
-  }
-  arphys::msg::Bus bus(url);
-  std::vector<arphys::process_status_t> statuses;
-  bus.subscribe<arphys::process_status_t>("ARPHYS_STATUS", [&](const arphys::process_status_t& m, const lcm::ReceiveBuffer&,
-                                                               const std::string&) { statuses.push_back(m); });
-  const pid_t sim = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator",
-                           std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/drop1000.yaml", "--lcm-url", url,
-                           "--clock", "wall", "--max-lag-s", "0.1", "--duration", "30"});
+  if (!arphys::testing::multicast_works(url))
+    GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  SimulatorWatch watch(url, /*keep_world_states=*/false);
+  const pid_t sim = start_simulator("drop1000.yaml", url, {"--clock", "wall", "--max-lag-s", "0.1", "--duration", "30"});
   ASSERT_GT(sim, 0);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(6);
-  while (std::chrono::steady_clock::now() < deadline) bus.handle_timeout_ms(100);
-  kill(sim, SIGTERM);
-  int status = 0;
-  waitpid(sim, &status, 0);
+  while (std::chrono::steady_clock::now() < deadline) watch.bus.handle_timeout_ms(100);
+  const int status = arphys::testing::stop_process(sim);
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "exit status " << status;
-  ASSERT_GE(statuses.size(), 4u);  // 6 s, the first second or so loading the scene
-  for (std::size_t k = 1; k < statuses.size(); ++k)
-    EXPECT_LT(statuses[k].uptime_s - statuses[k - 1].uptime_s, 1.6) << "heartbeat " << k;
-  double dropped_s = 0;
-  for (int i = 0; i < statuses.back().num_figures; ++i)
-    if (statuses.back().figure_names[i] == "dropped_time_s") dropped_s = statuses.back().figure_values[i];
+  ASSERT_GE(watch.statuses.size(), 4u);  // 6 s, the first second or so loading the scene
+  for (std::size_t k = 1; k < watch.statuses.size(); ++k)
+    EXPECT_LT(watch.statuses[k].uptime_s - watch.statuses[k - 1].uptime_s, 1.6) << "heartbeat " << k;
+  const double dropped_s = arphys::msg::figure(watch.statuses.back(), "dropped_time_s").value_or(0);
   EXPECT_GT(dropped_s, 1.0);  // it simulates a small part of each second
-  std::printf("%zu heartbeats, %.2f s given up by uptime %.1f s\n", statuses.size(), dropped_s, statuses.back().uptime_s);
+  std::printf("%zu heartbeats, %.2f s given up by uptime %.1f s\n", watch.statuses.size(), dropped_s, watch.statuses.back().uptime_s);
 }
 
 }  // namespace

@@ -22,11 +22,12 @@ inline pid_t spawn_process(const std::vector<std::string>& args) {
   return pid;
 }
 
-// Asks a spawned process to stop (SIGTERM) and waits for it.
-inline void stop_process(pid_t pid) {
+// Asks a spawned process to stop (SIGTERM), waits for it and returns its wait status.
+inline int stop_process(pid_t pid) {
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);
+  return status;
 }
 
 }  // namespace arphys::testing

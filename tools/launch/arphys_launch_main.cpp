@@ -38,6 +38,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 #include "tools/launch/latency_report.hpp"
@@ -95,11 +96,9 @@ struct MemoryWatch {
   std::map<std::string, Process> processes;
 
   void on_heartbeat(const arphys::process_status_t& status) {
-    double rss_mb = -1;
-    for (int i = 0; i < status.num_figures; ++i) {
-      if (status.figure_names[i] == "rss_mb") rss_mb = status.figure_values[i];
-    }
-    if (rss_mb < 0) return;
+    const std::optional<double> rss = msg::figure(status, "rss_mb");
+    if (!rss || *rss < 0) return;
+    const double rss_mb = *rss;
     Process& p = processes[status.name];
     if (p.pid != status.pid) p = Process{status.pid};
     if (p.baseline_mb < 0 && status.uptime_s >= warm_up_s) {
@@ -456,9 +455,7 @@ int main(int argc, char** argv) {
   // The simulation time the simulator gave up to keep within --sim-max-lag-s of the camera.
   report["simulator"] = {{"max_lag_s", sim_max_lag_s}, {"dropped_time_s", nullptr}};
   if (const auto it = heartbeats.find("simulator"); it != heartbeats.end()) {
-    for (int i = 0; i < it->second.num_figures; ++i) {
-      if (it->second.figure_names[i] == "dropped_time_s") report["simulator"]["dropped_time_s"] = it->second.figure_values[i];
-    }
+    if (const auto dropped_s = msg::figure(it->second, "dropped_time_s")) report["simulator"]["dropped_time_s"] = *dropped_s;
   }
   if (registration) {
     report["registration"] = registration->to_json();
