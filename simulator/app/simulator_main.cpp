@@ -30,6 +30,7 @@
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
+#include "simulator/dynamics/memory_policy.hpp"
 #include "simulator/process/simulator_core.hpp"
 
 namespace {
@@ -214,6 +215,7 @@ int main(int argc, char** argv) {
                  "keep the last world state here (replaced 5 times a second); when the file exists at start, resume "
                  "its virtual bodies (after a crash or restart)");
   CLI11_PARSE(app, argc, argv);
+  dynamics::keep_freed_memory_for_reuse();  // (memory_policy.hpp)
 
   config::SceneConfig scene;
   try {

@@ -274,6 +274,9 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
   boxes.reserve(participants.size());
   for (int i : participants) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
   std::vector<Contact> contacts;
+  // (About as many as the last step had: grown from empty, a 1000-box pile's thousands of
+  // contacts were copied a dozen times over.)
+  contacts.reserve(participants.size() == bodies_.size() ? contacts_.size() + contacts_.size() / 4 : 0);
   for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
     const int i = participants[p], j = participants[q];
     const RigidBody& a = bodies_[i];
@@ -476,8 +479,10 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
                                        const std::vector<Contact>& resting, const ImpactMap& impacts,
                                        std::vector<Contact>& solved, StepReport& report, bool* infeasible,
                                        SolvedIslands* memo) const {
-  solved = resting;
   const std::vector<Contact> meeting = impact_contacts(impacts);
+  solved.clear();
+  solved.reserve(resting.size() + meeting.size());
+  solved.insert(solved.end(), resting.begin(), resting.end());
   solved.insert(solved.end(), meeting.begin(), meeting.end());
   std::vector<BodyVelocity> u = setup.u_unconstrained;
   std::vector<ContactRow> rows;
@@ -902,7 +907,10 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // The poses do not change while the step is re-solved: the contacts are found once.
     // The step's first solve (all groups at once) is given.
     const bool at_start = elapsed == 0;
-    const std::vector<Contact> resting = at_start ? first.resting : gather_contacts(participants);
+    // (The first solve's contacts are not copied: a whole pile's are a megabyte.)
+    std::vector<Contact> gathered;
+    if (!at_start) gathered = gather_contacts(participants);
+    const std::vector<Contact>& resting = at_start ? first.resting : gathered;
     const std::vector<std::pair<int, int>> resting_pairs = pairs_of(resting);
     // Gravity and the gyroscopic term act once per step, over all of it, in its first
     // solve: the velocities are end-of-step velocities (symplectic Euler), and a step cut
@@ -1305,7 +1313,10 @@ StepReport World::step(double dt_s) {
       std::vector<int> participants;
       std::merge(bodies.begin(), bodies.end(), fixed.begin(), fixed.end(), std::back_inserter(participants));
       FirstSolve f{{}, {}, {}, islands_at_start};
+      f.u.reserve(participants.size());
       for (int i : participants) f.u.push_back(u0[i]);
+      f.resting.reserve(resting_of[g].size());
+      f.solved.reserve(resting_of[g].size());
       for (int k : resting_of[g]) {
         f.resting.push_back(resting[k]);
         f.solved.push_back(solved[k]);

@@ -12,6 +12,7 @@
 
 #include "configs/loader/config_error.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "simulator/dynamics/memory_policy.hpp"
 #include "simulator/dynamics/scene_world.hpp"
 
 namespace {
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
   app.add_option("--csv", csv_path, "output CSV file ('-' for standard output)")->required();
   app.add_option("--solver", solver, "override the scene's contact solver")->check(CLI::IsMember({"exact", "iterative"}));
   CLI11_PARSE(app, argc, argv);
+  dynamics::keep_freed_memory_for_reuse();  // (memory_policy.hpp)
 
   config::SceneConfig scene;
   try {

@@ -25,6 +25,7 @@
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
+#include "simulator/dynamics/memory_policy.hpp"
 #include "simulator/dynamics/scene_world.hpp"
 #include "tools/dyn_bench/engine.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
@@ -479,6 +480,7 @@ int main(int argc, char** argv) {
   app.add_option("--bunny-runs", bunny_runs,
                  "bunnies scene: runs, the first as shipped, the others with perturbed start velocities (default 3, --quick 1)");
   CLI11_PARSE(app, argc, argv);
+  arphys::dynamics::keep_freed_memory_for_reuse();  // (memory_policy.hpp; for every engine of the run)
   std::printf("arphys-dyn-bench: engines %s\n", [&] {
     std::string s;
     for (const auto& e : engines) s += e + " ";
