@@ -672,6 +672,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
       const bool swept_by_ccd = !resting_slowly && !far_apart;
       collision::ContinuousOptions ccd = options_.ccd;
       ccd.apart_at_start = apart_at_start;
+      const double start_depth_m = query.valid ? query.start_depth_m : -1;
       query = {true, next[p], next[q],
                swept_by_ccd ? collision::time_of_impact(a.shape, motion_of(p), b.shape, motion_of(q), ccd)
                             : collision::ContinuousResult{},
@@ -695,7 +696,8 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
         // become constraints of a re-solve, as a CCD meeting would.
         query.hits.clear();
         if (depth_measured(a, b)) {
-          const double start_depth = deepest_overlap(i, a.X_WB, j, b.X_WB);
+          const double start_depth = query.start_depth_m =
+              start_depth_m >= 0 ? start_depth_m : deepest_overlap(i, a.X_WB, j, b.X_WB);
           // (A tenth of the tolerance over the start depth keeps a pair that rounding
           // deepens by nanometres from being cut into ever smaller steps, in which the
           // depenetration speed can no longer undo anything.)
@@ -883,6 +885,7 @@ World::ImpactCache World::carry_over_cut(const std::vector<int>& participants, c
                 (!query.result.collides || query.result.time_of_impact > cut.tau + 1e-9);
     if (keep && query.result.collides)
       query.result.time_of_impact = (query.result.time_of_impact - cut.tau) / (1 - cut.tau);
+    query.start_depth_m = -1;  // (the cut moved the start poses)
     it = keep ? std::next(it) : cut.answers.erase(it);
   }
   return std::move(cut.answers);
