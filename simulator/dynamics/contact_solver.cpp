@@ -331,9 +331,12 @@ void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2
 // Scales the friction impulse (f1, f2) along two orthonormal tangents back onto Coulomb's
 // disc of radius bound_N_s, keeping its direction.
 void clamp_to_friction_disc(double& f1, double& f2, double bound_N_s) {
-  const double magnitude = std::hypot(f1, f2);
-  if (magnitude <= bound_N_s) return;
-  const double scale = bound_N_s > 0 ? bound_N_s / magnitude : 0.0;
+  // Squared, and sqrt rather than std::hypot: impulses are nowhere near overflow, and glibc's
+  // careful hypot, called for every frictional row in every sweep, was a quarter of a frictional
+  // 1000-box pile's time.
+  const double magnitude_squared = f1 * f1 + f2 * f2;
+  if (magnitude_squared <= bound_N_s * bound_N_s) return;
+  const double scale = bound_N_s > 0 ? bound_N_s / std::sqrt(magnitude_squared) : 0.0;
   f1 *= scale;
   f2 *= scale;
 }
