@@ -480,12 +480,15 @@ int main(int argc, char** argv) {
   app.add_option("--bunny-runs", bunny_runs,
                  "bunnies scene: runs, the first as shipped, the others with perturbed start velocities (default 3, --quick 1)");
   CLI11_PARSE(app, argc, argv);
-  arphys::dynamics::keep_freed_memory_for_reuse();  // (memory_policy.hpp; for every engine of the run)
+  // (memory_policy.hpp; it holds for every engine of the run, so the run says so.)
+  const bool memory_kept = arphys::dynamics::keep_freed_memory_for_reuse();
   std::printf("arphys-dyn-bench: engines %s\n", [&] {
     std::string s;
     for (const auto& e : engines) s += e + " ";
     return s;
   }().c_str());
+  std::printf("allocator: freed memory %s (every engine)\n",
+              memory_kept ? "kept for reuse" : "returned to the system (the C library's default)");
   try {
     for (const std::string& scene : scenes) {
       if (scene == "stack") {
