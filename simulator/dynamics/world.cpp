@@ -672,7 +672,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
       const bool swept_by_ccd = !resting_slowly && !far_apart;
       collision::ContinuousOptions ccd = options_.ccd;
       ccd.apart_at_start = apart_at_start;
-      const double start_depth_m = query.valid ? query.start_depth_m : -1;
+      const double start_depth_m = query.start_depth_m;  // (-1 for a pair not asked before)
       query = {true, next[p], next[q],
                swept_by_ccd ? collision::time_of_impact(a.shape, motion_of(p), b.shape, motion_of(q), ccd)
                             : collision::ContinuousResult{},
