@@ -97,7 +97,7 @@ PY
 studies() {
   local q=()
   ((quick)) && q=(--quick)
-  for study in tracking-map loss-flip model-size; do
+  for study in tracking-map loss-flip model-size main-job-load; do
     "$build/tools/eval/arphys-eval-studies" "$study" "${q[@]}" --out "$out" 2> >(tr '\r' '\n' | tail -n 1 >&2)
   done
 }

@@ -5,6 +5,9 @@
 //   model-size    table plane/box/mesh, bunny mesh 500..70k triangles, friction on/off:
 //                 accuracy (a bunny set down upright, dropped bunnies' rest poses) against
 //                 cost ("model no more than a scene needs")
+//   main-job-load the main job's simulator alone (the box pushed as the synthetic camera
+//                 moves it, a bunny thrown in every second): ms per step, second by
+//                 second, over several spawn seeds (the pile is chaotic)
 // Each writes one CSV into --out and prints a progress line per run.
 #include <CLI/CLI.hpp>
 
@@ -12,8 +15,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "configs/loader/camera_script.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "simulator/dynamics/memory_policy.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
+#include "tools/eval/main_job_load.hpp"
 #include "tools/eval/model_study.hpp"
 #include "tools/eval/push_scenario.hpp"
 
@@ -149,24 +155,77 @@ int model_size(const config::SceneConfig& scene, const std::string& out, const s
   return 0;
 }
 
+int main_job_load(const std::string& script_path, const std::string& out, int seeds, double duration_s) {
+  // As arphys-simulator does: a shoved pile's step frees blocks glibc would otherwise
+  // hand back to the kernel and fault in again.
+  dynamics::keep_freed_memory_for_reuse();
+  const config::CameraScriptConfig script = config::load_camera_script(script_path);
+  auto csv = open_csv(out + "/eval_main_job_load.csv", "seed,second,ms_per_step,steps,virtual_bodies,bodies_left_world");
+  const double step_ms = 1e3 * script.scene.time_step_s;
+  std::vector<double> run_means;
+  std::vector<std::vector<double>> by_second;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    // Seed 7 is the launcher's: the first run is the main job's own spawns.
+    const unsigned rng_seed = seed == 1 ? 7u : static_cast<unsigned>(seed);
+    const std::vector<LoadSecond> load = run_main_job_load(script, rng_seed, duration_s);
+    double total_ms = 0;
+    int steps = 0, behind = 0;
+    for (const LoadSecond& s : load) {
+      csv << rng_seed << "," << s.second << "," << s.ms_per_step << "," << s.steps << "," << s.virtual_bodies << ","
+          << s.bodies_left_world << "\n";
+      total_ms += s.ms_per_step * s.steps;
+      steps += s.steps;
+      behind += s.ms_per_step > step_ms;
+      if (by_second.size() <= static_cast<std::size_t>(s.second)) by_second.resize(s.second + 1);
+      by_second[s.second].push_back(s.ms_per_step);
+    }
+    run_means.push_back(steps > 0 ? total_ms / steps : 0.0);
+    std::fprintf(stderr, "main-job-load %d/%d (seed %u): %.2f ms per %.0f ms step, %d of %zu seconds slower than real time, "
+                 "%d bunnies left the table\n", seed, seeds, rng_seed, run_means.back(), step_ms, behind, load.size(),
+                 load.empty() ? 0 : load.back().bodies_left_world);
+  }
+  double lo = run_means.front(), hi = lo, sum = 0;
+  for (double m : run_means) lo = std::min(lo, m), hi = std::max(hi, m), sum += m;
+  std::printf("main-job-load: %.2f ms per %.0f ms step, mean of %d seeds (runs %.2f .. %.2f)\n", sum / seeds, step_ms,
+              seeds, lo, hi);
+  std::printf("second  mean ms/step over seeds\n");
+  for (std::size_t s = 0; s < by_second.size(); ++s) {
+    double m = 0;
+    for (double v : by_second[s]) m += v;
+    if (!by_second[s].empty()) std::printf("%6zu  %.2f\n", s, m / by_second[s].size());
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"arphys-eval-studies: stability maps and the model-size study of docs/EVALUATION.md"};
   std::string study, out = ".", scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   bool quick = false;
-  app.add_option("study", study, "tracking-map | loss-flip | model-size")
+  std::string script_path = config::default_config_dir() + "/synthetic/box_push.yaml";
+  int seeds = 0;
+  double duration_s = 20;
+  app.add_option("study", study, "tracking-map | loss-flip | model-size | main-job-load")
       ->required()
-      ->check(CLI::IsMember({"tracking-map", "loss-flip", "model-size"}));
+      ->check(CLI::IsMember({"tracking-map", "loss-flip", "model-size", "main-job-load"}));
   app.add_option("--out", out, "directory for the CSV")->capture_default_str();
   app.add_option("--scene", scene_path, "the bunny-box-table scene")->capture_default_str();
   app.add_flag("--quick", quick, "two seeds per cell (else five), shorter settling (fits the --quick evaluation)");
+  app.add_option("--script", script_path, "main-job-load: the synthetic camera script that moves the box")
+      ->capture_default_str();
+  app.add_option("--seeds", seeds, "main-job-load: spawn seeds to average over (default 6, --quick 2)")
+      ->check(CLI::Range(1, 100));
+  app.add_option("--duration", duration_s, "main-job-load: simulated seconds per run (the main job runs 20)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
     std::filesystem::create_directories(out);
     const config::SceneConfig scene = config::load_scene(scene_path);
     if (study == "tracking-map") return tracking_map(scene, out, quick ? 2 : 5);
     if (study == "loss-flip") return loss_flip(scene, out);
+    if (study == "main-job-load") return main_job_load(script_path, out, seeds > 0 ? seeds : quick ? 2 : 6, duration_s);
     return model_size(scene, out, config::default_config_dir() + "/models", quick ? 1.5 : 2.5);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "arphys-eval-studies: %s\n", e.what());
