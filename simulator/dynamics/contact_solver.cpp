@@ -126,15 +126,6 @@ struct DualSolution {
 // row. Below it, dense is faster.
 constexpr int kSparseRows = 128;
 
-// min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
-// equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
-// ridge keeps the passive block solvable when contacts are redundant (four corners
-// of a face constrain three degrees of freedom). The passive block's factor follows
-// the rows joining and leaving it (IncrementalCholesky) up to kSparseRows rows; a
-// larger block is factorised sparse, afresh, each time it changes (unless that loses
-// digits: then the dense factor follows it again).
-// start_from: rows the active set starts from; with_violated: and every row the
-// unconstrained motion violates.
 // An island's Delassus matrix in sparse form and its fill-reducing order, built when a
 // solve first needs them and kept for the island's other solves (a frictional island is
 // solved three times, and again when squeezed: each built them afresh, a scan of the
@@ -146,6 +137,15 @@ struct SparseDelassus {
   std::vector<int> rank;  // a row's place in the elimination order (empty: not found yet)
 };
 
+// min 1/2 l^T A l + q^T l over l >= 0 (Lawson & Hanson's active set on the normal
+// equations, as in Bro & de Jong's fast NNLS). A is positive semidefinite; a tiny
+// ridge keeps the passive block solvable when contacts are redundant (four corners
+// of a face constrain three degrees of freedom). The passive block's factor follows
+// the rows joining and leaving it (IncrementalCholesky) up to kSparseRows rows; a
+// larger block is factorised sparse, afresh, each time it changes (unless that loses
+// digits: then the dense factor follows it again).
+// start_from: rows the active set starts from; with_violated: and every row the
+// unconstrained motion violates; sparse_form: the island's, shared by its solves.
 DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool with_violated,
                               const std::vector<char>& start_from, SparseDelassus& sparse_form) {
   using SparseMatrix = Eigen::SparseMatrix<double>;

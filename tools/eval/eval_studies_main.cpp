@@ -201,7 +201,8 @@ int main_job_load(const std::string& script_path, const std::string& out, int se
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"arphys-eval-studies: stability maps and the model-size study of docs/EVALUATION.md"};
+  CLI::App app{"arphys-eval-studies: stability maps and the model-size study of docs/EVALUATION.md, and the main "
+               "job's simulator load (docs/pipeline.md)"};
   std::string study, out = ".", scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   bool quick = false;
   std::string script_path = config::default_config_dir() + "/synthetic/box_push.yaml";

@@ -24,8 +24,9 @@ struct LoadSecond {
   int bodies_left_world = 0;  // fallen off the table so far (and removed)
 };
 
-// Throws std::invalid_argument unless duration_s > 0 and the script moves a real,
-// kinematic object called "box" and its scene has a spawnable virtual model.
+// Throws std::invalid_argument unless duration_s > 0, the script moves an object called
+// "box" (the simulator refuses, and counts, poses of one that is not tracked) and its
+// scene has a virtual dynamic model to spawn.
 std::vector<LoadSecond> run_main_job_load(const config::CameraScriptConfig& script, unsigned seed, double duration_s);
 
 }  // namespace arphys::eval
