@@ -1,6 +1,6 @@
 // The main job's load study (tools/eval/main_job_load.hpp): it must do to the simulator
-// what the main job does, second by second: step it in real time and throw in a bunny a
-// second.
+// what the main job does, second by second: step it up to each frame's capture time (one
+// simulated second a second) and throw in a bunny a second.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,7 +17,7 @@ const config::CameraScriptConfig& script() {
   return s;
 }
 
-TEST(MainJobLoad, StepsInRealTimeAndThrowsInABunnyASecond) {
+TEST(MainJobLoad, StepsEachSimulatedSecondAndThrowsInABunnyASecond) {
   const std::vector<LoadSecond> load = run_main_job_load(script(), 7, 3.0);
   ASSERT_EQ(load.size(), 3u);
   const int steps_per_second = static_cast<int>(std::lround(1.0 / script().scene.time_step_s));

@@ -2,11 +2,11 @@
 
 #include <chrono>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
 #include "simulator/dynamics/kinematic_trajectory.hpp"
 #include "simulator/process/simulator_core.hpp"
+#include "tools/launch/main_job_throws.hpp"
 
 namespace arphys::eval {
 
@@ -17,16 +17,11 @@ std::vector<LoadSecond> run_main_job_load(const config::CameraScriptConfig& scri
     throw std::invalid_argument("main-job-load: " + script.file + " moves no object called 'box'");
   dynamics::KinematicTrajectory box;
   for (const auto& key : keys->second) box.add(key.t_s, key.X_WO);
-  std::string model;
-  for (const auto& object : script.scene.objects)
-    if (model.empty() && object.role == config::Role::kVirtual && object.motion == config::Motion::kDynamic) model = object.id;
-  if (model.empty()) throw std::invalid_argument("main-job-load: " + script.scene.file + " has no virtual dynamic model to spawn");
+  const config::ObjectConfig* model = launch::thrown_model(script.scene);
+  if (!model) throw std::invalid_argument("main-job-load: " + script.scene.file + " has no virtual dynamic model to spawn");
 
   sim::SimulatorCore core(script.scene, sim::CoreOptions{});
-  // What arphys-launch sends (tools/launch/arphys_launch_main.cpp): one a second, thrown
-  // from the table's front edge towards its middle.
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> spread(-0.15, 0.15);
+  launch::MainJobThrows throws(seed);  // what arphys-launch throws in, one a second
   const int64_t start_utime = 1'700'000'000'000'000;
   const double period_s = 1.0 / script.frame_rate_hz;
   std::vector<LoadSecond> seconds;
@@ -45,9 +40,10 @@ std::vector<LoadSecond> run_main_job_load(const config::CameraScriptConfig& scri
       sim::SpawnRequest spawn;
       spawn.sender = "main-job-load";
       spawn.seq = ++spawned;
-      spawn.model = model;
-      spawn.X_WB = geometry::make_pose({spread(rng), -0.25, 0.25}, {0.7071067811865476, 0.7071067811865476, 0, 0});
-      spawn.v_WB_m_s = {spread(rng), 0.3, 0.0};
+      spawn.model = model->id;
+      const launch::Throw thrown = throws.next();
+      spawn.X_WB = thrown.X_WB;
+      spawn.v_WB_m_s = thrown.v_WB_m_s;
       core.on_command(spawn);  // (refused past the model's max_instances, as in the job)
     }
     const auto before = std::chrono::steady_clock::now();

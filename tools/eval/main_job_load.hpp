@@ -2,9 +2,9 @@
 // The main job's simulator load without LCM and without the other processes: the
 // synthetic camera's script (configs/synthetic/box_push.yaml) moves the tracked box and
 // its exact poses reach the simulator core at the script's frame rate, as a perfect
-// tracker's would; a bunny is spawned every second as arphys-launch spawns them (same
-// place, same spread of positions and velocities, from a seeded generator: seed 7 is the
-// launcher's). Each frame the core steps up to the frame's capture time, timed.
+// tracker's would; a bunny is spawned every second as arphys-launch spawns them
+// (launch::MainJobThrows; seed 7 is the launcher's). Each frame the core steps up to the
+// frame's capture time, timed.
 //
 // The pile the box shoves is chaotic: a change in the last bit of any contact sends the
 // bunnies elsewhere (one falls off the table, or one more lies in front of the box), and

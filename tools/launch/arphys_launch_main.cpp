@@ -42,6 +42,7 @@
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 #include "tools/launch/latency_report.hpp"
+#include "tools/launch/main_job_throws.hpp"
 #include "tools/launch/registration_report.hpp"
 
 extern char** environ;
@@ -329,15 +330,11 @@ int main(int argc, char** argv) {
   // The first dynamic virtual model is what a user throws in (the bunny).
   std::string spawn_model;
   int64_t spawn_limit = 0;  // the scene's max_instances, less those it starts with
-  for (const auto& o : scene.objects) {
-    if (o.role == config::Role::kVirtual && o.motion == config::Motion::kDynamic) {
-      spawn_model = o.id;
-      spawn_limit = o.max_instances - static_cast<int64_t>(o.spawn_at_start.size());
-      break;
-    }
+  if (const config::ObjectConfig* model = launch::thrown_model(scene)) {
+    spawn_model = model->id;
+    spawn_limit = model->max_instances - static_cast<int64_t>(model->spawn_at_start.size());
   }
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> spread(-0.15, 0.15);
+  launch::MainJobThrows throws;
   int64_t spawn_seq = 0;
   const auto start = std::chrono::steady_clock::now();
   auto last_line = start, last_spawn = start;
@@ -412,9 +409,9 @@ int main(int argc, char** argv) {
       c.sender = "arphys-launch";
       c.command = arphys::sim_command_t::COMMAND_SPAWN;
       c.model = spawn_model;
-      c.X_WB = msg::to_message(geometry::make_pose({spread(rng), -0.25, 0.25}, {0.7071067811865476, 0.7071067811865476, 0, 0}));
-      const double v[3] = {spread(rng), 0.3, 0.0};
-      std::copy(v, v + 3, c.v_WB_m_s);
+      const launch::Throw thrown = throws.next();
+      c.X_WB = msg::to_message(thrown.X_WB);
+      std::copy(thrown.v_WB_m_s.data(), thrown.v_WB_m_s.data() + 3, c.v_WB_m_s);
       bus->publish(scene.channels.sim_command, c);
       last_spawn = now;
     }
