@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -46,9 +47,14 @@ Trace replay_once(const std::string& log) {
        std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kReplayUrl, "--clock",
        "messages", "--duration", "60"});
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
-  std::thread player([&] { run("lcm-logplayer -e ARPHYS_OBJECT_POSES --lcm-url=" + kReplayUrl + " " + log); });
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(8);
-  while (std::chrono::steady_clock::now() < end) bus.handle_timeout_ms(20);
+  std::atomic<bool> played{false};
+  std::thread player([&] {
+    run("lcm-logplayer -e ARPHYS_OBJECT_POSES --lcm-url=" + kReplayUrl + " " + log);
+    played = true;
+  });
+  // Until the player has played the log (in real time: about 3 s; it used to be a fixed 8 s).
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!played && std::chrono::steady_clock::now() < give_up) bus.handle_timeout_ms(20);
   player.join();
   for (int i = 0; i < 50; ++i) bus.handle_timeout_ms(20);
   arphys::testing::stop_process(simulator);

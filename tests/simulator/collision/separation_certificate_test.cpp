@@ -125,9 +125,14 @@ TEST(SeparationCertificate, TheBoundingBoxGapOfMeshesAndSpheresIsALowerBoundOnTh
   EXPECT_EQ(gap_lower_bound_m(Shape::plane(), at({0, 0, 0}), box, at({0, 0, 1})), -1);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> coordinate(-0.25, 0.25), unit(-1, 1), angle(-M_PI, M_PI);
+#ifdef ARPHYS_UNDER_SANITIZERS
+  const int kTrials = 250;  // the same paths checked for memory and UB (1000 took 50 s there)
+#else
+  const int kTrials = 1000;
+#endif
   for (const Shape* other : {&box, &sphere, &bunny}) {
     int positive = 0;
-    for (int trial = 0; trial < 1000; ++trial) {
+    for (int trial = 0; trial < kTrials; ++trial) {
       const Pose A = at({0, 0, 0}, turn(angle(rng), {unit(rng), unit(rng), unit(rng) + 1e-3}));
       const Pose B = at({coordinate(rng), coordinate(rng), coordinate(rng)}, turn(angle(rng), {unit(rng), unit(rng), unit(rng) + 1e-3}));
       const double gap = gap_lower_bound_m(bunny, A, *other, B);
@@ -140,7 +145,7 @@ TEST(SeparationCertificate, TheBoundingBoxGapOfMeshesAndSpheresIsALowerBoundOnTh
                            : separation(*bunny.triangles(), A, *other->triangles(), B, gap).distance_m;
       ASSERT_LE(gap, distance + 1e-8) << "trial " << trial;
     }
-    EXPECT_GT(positive, 300);
+    EXPECT_GT(positive, 3 * kTrials / 10);
   }
 }
 
