@@ -6,15 +6,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tracker/detection/edge_refinement.hpp"
+#include "tracker/sources/wall_clock.hpp"
 
 namespace arphys::tracking {
 
 namespace {
-
-int64_t wall_utime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since).count();
@@ -57,7 +53,7 @@ std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool ind
   report.seq = frame.seq;
   report.name = frame.name;
   report.implementation = detector_->describe();
-  report.detect_start_utime = wall_utime();
+  report.detect_start_utime = wall_clock_utime();
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<DetectedMarker> markers = detector_->detect(gray_);
   if (refine_corners_) {
@@ -67,7 +63,7 @@ std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool ind
   const auto t1 = std::chrono::steady_clock::now();
   report.result = tracker_.update(markers, frame.capture_utime);
   report.pose_ms = elapsed_ms(t1);
-  report.detect_end_utime = wall_utime();
+  report.detect_end_utime = wall_clock_utime();
   ++counters_.frames;
   counters_.unknown_markers += report.result.unknown_markers;
   return report;

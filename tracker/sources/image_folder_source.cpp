@@ -1,11 +1,12 @@
 #include "tracker/sources/image_folder_source.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 
 #include <opencv2/imgcodecs.hpp>
+
+#include "tracker/sources/wall_clock.hpp"
 
 namespace arphys::tracking {
 
@@ -25,9 +26,7 @@ ImageFolderSource::ImageFolderSource(const std::string& folder, double fps) : fo
   }
   std::sort(files_.begin(), files_.end());
   if (files_.empty()) throw SourceError("image folder " + folder + " holds no png/jpg/bmp/pgm/ppm/tif images");
-  open_utime_ = std::chrono::duration_cast<std::chrono::microseconds>(
-                    std::chrono::system_clock::now().time_since_epoch())
-                    .count();
+  open_utime_ = wall_clock_utime();
 }
 
 std::optional<Frame> ImageFolderSource::next(int /*timeout_ms*/) {

@@ -4,14 +4,11 @@
 
 #include <cmath>
 
+#include "tracker/sources/wall_clock.hpp"
+
 namespace arphys::tracking {
 
 namespace {
-
-int64_t wall_utime() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 
 int64_t monotonic_utime() {
   timespec ts{};
@@ -30,13 +27,13 @@ VideoCaptureSource::VideoCaptureSource(int device_index, int width, int height, 
   if (width > 0) capture_.set(cv::CAP_PROP_FRAME_WIDTH, width);
   if (height > 0) capture_.set(cv::CAP_PROP_FRAME_HEIGHT, height);
   if (fps > 0) capture_.set(cv::CAP_PROP_FPS, fps);
-  open_utime_ = wall_utime();
+  open_utime_ = wall_clock_utime();
 }
 
 VideoCaptureSource::VideoCaptureSource(const std::string& path) : is_file_(true) {
   description_ = path;
   if (!capture_.open(path)) throw SourceError("cannot open video file " + path + " (missing, or not a video OpenCV can decode)");
-  open_utime_ = wall_utime();
+  open_utime_ = wall_clock_utime();
 }
 
 std::optional<Frame> VideoCaptureSource::next(int /*timeout_ms*/) {
@@ -55,9 +52,9 @@ std::optional<Frame> VideoCaptureSource::next(int /*timeout_ms*/) {
   } else if (position_ms > 0) {
     // V4L2 buffer timestamps are CLOCK_MONOTONIC: shift them onto the wall clock.
     const int64_t age_us = monotonic_utime() - static_cast<int64_t>(std::llround(position_ms * 1000.0));
-    frame.capture_utime = (age_us >= 0 && age_us < 1000000) ? wall_utime() - age_us : wall_utime();
+    frame.capture_utime = (age_us >= 0 && age_us < 1000000) ? wall_clock_utime() - age_us : wall_clock_utime();
   } else {
-    frame.capture_utime = wall_utime();
+    frame.capture_utime = wall_clock_utime();
   }
   frame.seq = seq_++;
   return frame;

@@ -8,18 +8,14 @@
 
 #include "simulator/collision/box_box_manifold.hpp"
 #include "simulator/collision/shape.hpp"
+#include "tests/support/poses.hpp"
 
 namespace arphys::collision {
 namespace {
 
-using geometry::Pose;
+using testing::at;
 
-Pose at(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
-  Pose X = Pose::Identity();
-  X.linear() = R;
-  X.translation() = p;
-  return X;
-}
+using geometry::Pose;
 
 const Eigen::Vector3d kCube = Eigen::Vector3d::Constant(0.2);
 

@@ -6,21 +6,20 @@
 
 #include "simulator/collision/discrete_query.hpp"
 #include "tools/ccd_bench/fcl_reference.hpp"
+#include "tests/support/poses.hpp"
+#include "tests/support/toi_checks.hpp"
 
 namespace arphys::collision {
 namespace {
+
+using testing::at;
+using testing::expect_toi;
+using testing::kStill;
 
 using geometry::Pose;
 using geometry::ScrewMotion;
 
 Pose at(double x, double y, double z) { return geometry::translation_pose({x, y, z}); }
-Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis, double angle_rad) {
-  Pose X = geometry::rotation_pose(axis.normalized(), angle_rad);
-  X.translation() = p;
-  return X;
-}
-
-const ScrewMotion kStill{Pose::Identity(), Pose::Identity()};
 
 // A vector uniform in [-1, 1]^3 from the test's own generator (Eigen's Random draws on
 // std::rand, which other tests in the binary draw on too: the cases would depend on
@@ -36,13 +35,6 @@ CollisionMesh slab() {
   auto mesh = geometry::make_box_mesh({2, 2, 0.1});
   for (auto& v : mesh.vertices_m) v.z() -= 0.05;
   return CollisionMesh(std::move(mesh));
-}
-
-// TOI must be within [truth - tolerance, truth]: never late, barely early.
-void expect_toi(const ContinuousResult& r, double truth, double tolerance = 2e-9) {
-  ASSERT_TRUE(r.collides);
-  EXPECT_LE(r.time_of_impact, truth + 1e-12);
-  EXPECT_GE(r.time_of_impact, truth - tolerance);
 }
 
 TEST(ContinuousQuery, CubeFallingOnSlabUnderTranslation) {

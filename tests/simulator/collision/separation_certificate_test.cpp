@@ -11,21 +11,17 @@
 #include "simulator/collision/separation_certificate.hpp"
 #include "simulator/collision/collision_mesh.hpp"
 #include "simulator/collision/shape.hpp"
+#include "tests/support/poses.hpp"
 
 namespace arphys::collision {
 namespace {
+
+using testing::at;
 
 using geometry::Pose;
 using geometry::ScrewMotion;
 
 const Eigen::Vector3d kHalf = Eigen::Vector3d::Constant(0.1);
-
-Pose at(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
-  Pose X = Pose::Identity();
-  X.linear() = R;
-  X.translation() = p;
-  return X;
-}
 
 Eigen::Matrix3d turn(double angle_rad, const Eigen::Vector3d& axis) {
   return Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();

@@ -5,25 +5,18 @@
 #include <random>
 
 #include "simulator/collision/collision_mesh.hpp"
+#include "tests/support/poses.hpp"
+#include "tests/support/toi_checks.hpp"
 
 namespace arphys::collision {
 namespace {
 
+using testing::at;
+using testing::expect_toi;
+using testing::kStill;
+
 using geometry::Pose;
 using geometry::ScrewMotion;
-
-Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis = Eigen::Vector3d::UnitZ(), double angle_rad = 0) {
-  Pose X = geometry::rotation_pose(axis.normalized(), angle_rad);
-  X.translation() = p;
-  return X;
-}
-const ScrewMotion kStill{Pose::Identity(), Pose::Identity()};
-
-void expect_toi(const ContinuousResult& r, double truth, double tolerance = 2e-9) {
-  ASSERT_TRUE(r.collides);
-  EXPECT_LE(r.time_of_impact, truth + 1e-12);
-  EXPECT_GE(r.time_of_impact, truth - tolerance);
-}
 
 TEST(ShapeQuery, SphereOntoPlaneUnderTranslationAndScrew) {
   const Shape ground = Shape::plane(), ball = Shape::sphere(0.1);

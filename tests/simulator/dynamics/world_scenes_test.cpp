@@ -9,17 +9,14 @@
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
+#include "tests/support/poses.hpp"
 
 namespace arphys::dynamics {
 namespace {
 
-using geometry::Pose;
+using testing::at;
 
-Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis = Eigen::Vector3d::UnitZ(), double angle_rad = 0) {
-  Pose X = geometry::rotation_pose(axis.normalized(), angle_rad);
-  X.translation() = p;
-  return X;
-}
+using geometry::Pose;
 
 RigidBody ground(const Pose& X = Pose::Identity(), double restitution = 0) {
   RigidBody b;
