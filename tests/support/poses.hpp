@@ -1,6 +1,8 @@
 #pragma once
-// Poses spelled the short way the scene tests place bodies: a position, and a turn given as
-// a rotation matrix or as an axis and an angle.
+// Poses spelled the short way the tests place bodies: a position, and a turn given as a
+// rotation matrix or as an axis and an angle; and random poses from a test's own generator.
+#include <random>
+
 #include <Eigen/Geometry>
 
 #include "simulator/geometry/pose.hpp"
@@ -17,6 +19,16 @@ inline geometry::Pose at(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Ei
 inline geometry::Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis, double angle_rad) {
   geometry::Pose X = geometry::rotation_pose(axis.normalized(), angle_rad);
   X.translation() = p;
+  return X;
+}
+
+// A uniformly random turn and a translation within max_translation_m along each axis.
+inline geometry::Pose random_pose(std::mt19937& rng, double max_translation_m) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
+  geometry::Pose X = geometry::Pose::Identity();
+  X.linear() = q.normalized().toRotationMatrix();
+  X.translation() = max_translation_m * Eigen::Vector3d(u(rng), u(rng), u(rng));
   return X;
 }
 

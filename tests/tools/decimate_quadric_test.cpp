@@ -21,7 +21,7 @@ const std::string kTool = std::string(ARPHYS_BINARY_DIR) + "/tools/models/decima
 int run(const std::string& arguments) { return WEXITSTATUS(std::system((kTool + " " + arguments).c_str())); }
 
 TEST(DecimateQuadric, KeepsTheSurfaceManifoldAndItsVerticesTheInputs) {
-  const auto out = std::filesystem::path(testing::TempDir()) / "bunny-1200.obj";
+  const auto out = std::filesystem::path(::testing::TempDir()) / "bunny-1200.obj";
   ASSERT_EQ(run(kModels + "stanford-bunny-5k.obj " + out.string() + " --triangles 1200 > /dev/null"), 0);
   using arphys::geometry::load_mesh;
   const auto input = load_mesh(kModels + "stanford-bunny-5k.obj");
@@ -43,7 +43,7 @@ TEST(DecimateQuadric, KeepsTheSurfaceManifoldAndItsVerticesTheInputs) {
 }
 
 TEST(DecimateQuadric, AMissingInputOrNoTrianglesIsNamedAndFails) {
-  const auto err = std::filesystem::path(testing::TempDir()) / "decimate_err.txt";
+  const auto err = std::filesystem::path(::testing::TempDir()) / "decimate_err.txt";
   const auto message = [&] {
     std::ifstream in(err);
     return std::string(std::istreambuf_iterator<char>(in), {});

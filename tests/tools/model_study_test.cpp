@@ -25,7 +25,7 @@ ModelVariant variant(const std::string& mesh) {
 
 TEST(ModelStudy, UprightBunnyRestsOnItsBaseOnTheTable) {
   const config::SceneConfig scene = config::load_scene(kConfigs + "/scenes/bunny_box_table.yaml");
-  const ModelOutcome o = run_model_variant(scene, variant("stanford-bunny-5k.obj"), 1.0, testing::TempDir());
+  const ModelOutcome o = run_model_variant(scene, variant("stanford-bunny-5k.obj"), 1.0, ::testing::TempDir());
   const Eigen::Isometry3d& X = o.upright_rest_pose;
   // Where it was set down (x, y), still upright (the start orientation: +90 deg about x).
   EXPECT_NEAR(X.translation().x(), -0.1, 2e-3);

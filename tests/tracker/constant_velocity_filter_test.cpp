@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/poses.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
 
 namespace arphys::tracking {
@@ -12,12 +13,7 @@ namespace {
 
 using geometry::Pose;
 
-Pose pose_at(const Eigen::Vector3d& p, const Eigen::Matrix3d& R = Eigen::Matrix3d::Identity()) {
-  Pose X = Pose::Identity();
-  X.translation() = p;
-  X.linear() = R;
-  return X;
-}
+using arphys::testing::at;  // (tracking has a testing namespace of its own)
 
 // 0.5 m/s along x seen at 30 Hz with 1 mm noise: the frame-to-frame speed of the raw poses
 // scatters by about 0.04 m/s; the filtered one by little more than half that (more
@@ -34,7 +30,7 @@ TEST(ConstantVelocityFilter, SmoothsASteadyNoisyMotionWithoutLag) {
     const double t = k * frame;
     const Eigen::Vector3d truth(0.5 * t, 0, 0.3);
     const Eigen::Vector3d raw = truth + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-    const Eigen::Vector3d filtered = filter.filter(pose_at(raw), t).translation();
+    const Eigen::Vector3d filtered = filter.filter(at(raw), t).translation();
     if (k >= 30) {
       raw_sq += std::pow((raw - last_raw).norm() / frame - 0.5, 2);
       filtered_sq += std::pow((filtered - last_filtered).norm() / frame - 0.5, 2);
@@ -65,7 +61,7 @@ TEST(ConstantVelocityFilter, EstimatesAnAngularVelocity) {
     const Eigen::Matrix3d truth = Eigen::AngleAxisd(1.0 * t, axis).toRotationMatrix();
     const Eigen::Vector3d e(noise(rng), noise(rng), noise(rng));
     const Eigen::Matrix3d raw = Eigen::AngleAxisd(e.norm(), e.normalized()).toRotationMatrix() * truth;
-    const Pose Y = filter.filter(pose_at(Eigen::Vector3d::Zero(), raw), t);
+    const Pose Y = filter.filter(at(Eigen::Vector3d::Zero(), raw), t);
     if (k < 30) continue;
     raw_sq += std::pow(Eigen::AngleAxisd(raw * truth.transpose()).angle(), 2);
     filtered_sq += std::pow(Eigen::AngleAxisd(Y.linear() * truth.transpose()).angle(), 2);
@@ -80,12 +76,12 @@ TEST(ConstantVelocityFilter, EstimatesAnAngularVelocity) {
 // output is the measurement and the velocity is forgotten, not a 6 m/s estimate.
 TEST(ConstantVelocityFilter, RestartsOnAJumpAndAfterAGap) {
   ConstantVelocityPoseFilter filter;
-  for (int k = 0; k < 10; ++k) filter.filter(pose_at({0.01 * k, 0, 0}), k / 30.0);
-  const Pose jumped = filter.filter(pose_at({0.3, 0, 0}), 10 / 30.0);
+  for (int k = 0; k < 10; ++k) filter.filter(at({0.01 * k, 0, 0}), k / 30.0);
+  const Pose jumped = filter.filter(at({0.3, 0, 0}), 10 / 30.0);
   EXPECT_NEAR(jumped.translation().x(), 0.3, 1e-12);
   EXPECT_EQ(filter.velocity_m_s().norm(), 0.0);
-  filter.filter(pose_at({0.31, 0, 0}), 11 / 30.0);
-  const Pose late = filter.filter(pose_at({0.5, 0, 0}), 11 / 30.0 + 1.0);  // 1 s gap
+  filter.filter(at({0.31, 0, 0}), 11 / 30.0);
+  const Pose late = filter.filter(at({0.5, 0, 0}), 11 / 30.0 + 1.0);  // 1 s gap
   EXPECT_NEAR(late.translation().x(), 0.5, 1e-12);
   EXPECT_EQ(filter.velocity_m_s().norm(), 0.0);
 }

@@ -14,7 +14,6 @@ namespace arphys::collision {
 namespace {
 
 using testing::at;
-
 using geometry::Pose;
 
 const Eigen::Vector3d kCube = Eigen::Vector3d::Constant(0.2);

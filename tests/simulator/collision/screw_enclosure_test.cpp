@@ -4,17 +4,12 @@
 
 #include <random>
 
+#include "tests/support/poses.hpp"
+
 namespace arphys::collision {
 namespace {
 
-geometry::Pose random_pose(std::mt19937& rng, double max_translation_m) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
-  geometry::Pose X = geometry::Pose::Identity();
-  X.linear() = q.normalized().toRotationMatrix();
-  X.translation() = max_translation_m * Eigen::Vector3d(u(rng), u(rng), u(rng));
-  return X;
-}
+using testing::random_pose;
 
 bool contains(const IVec3& box, const Eigen::Vector3d& p) {
   for (int i = 0; i < 3; ++i)

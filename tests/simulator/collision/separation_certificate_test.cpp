@@ -17,7 +17,6 @@ namespace arphys::collision {
 namespace {
 
 using testing::at;
-
 using geometry::Pose;
 using geometry::ScrewMotion;
 

@@ -14,7 +14,6 @@ namespace {
 using testing::at;
 using testing::expect_toi;
 using testing::kStill;
-
 using geometry::Pose;
 using geometry::ScrewMotion;
 

@@ -15,7 +15,6 @@ namespace arphys::dynamics {
 namespace {
 
 using testing::at;
-
 using geometry::Pose;
 
 RigidBody ground(const Pose& X = Pose::Identity(), double restitution = 0) {

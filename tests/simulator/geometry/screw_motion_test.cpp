@@ -4,18 +4,12 @@
 
 #include <random>
 
+#include "tests/support/poses.hpp"
+
 namespace arphys::geometry {
 namespace {
 
-Pose random_pose(std::mt19937& rng, double max_translation_m) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
-  q.normalize();
-  Pose X = Pose::Identity();
-  X.linear() = q.toRotationMatrix();
-  X.translation() = max_translation_m * Eigen::Vector3d(u(rng), u(rng), u(rng));
-  return X;
-}
+using testing::random_pose;
 
 double pose_error(const Pose& a, const Pose& b) { return (a.matrix() - b.matrix()).cwiseAbs().maxCoeff(); }
 

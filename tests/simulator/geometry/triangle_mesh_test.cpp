@@ -31,7 +31,7 @@ TEST(TriangleMesh, LoadsBinaryPly) {
 TEST(TriangleMesh, SavedObjLoadsBackTheSameTriangles) {
   TriangleMesh mesh = make_box_mesh({1.2, 0.8, 0.04});
   mesh.vertices_m[0].z() = 0.123456789;  // more digits than the default six keep (0.123457)
-  const std::string path = testing::TempDir() + "/saved_box.obj";
+  const std::string path = ::testing::TempDir() + "/saved_box.obj";
   save_obj(mesh, path);
   const TriangleMesh back = load_mesh(path);
   ASSERT_EQ(back.num_triangles(), mesh.num_triangles());
