@@ -4,15 +4,6 @@
 
 namespace arphys::dynamics {
 
-const char* to_string(BodyMotion motion) {
-  switch (motion) {
-    case BodyMotion::kStatic: return "static";
-    case BodyMotion::kKinematic: return "kinematic";
-    case BodyMotion::kDynamic: return "dynamic";
-  }
-  return "?";
-}
-
 Eigen::Matrix3d RigidBody::inverse_inertia_W() const {
   const Eigen::Matrix3d R = X_WB.linear();
   return R * mass.inertia_about_com_kg_m2.inverse() * R.transpose();

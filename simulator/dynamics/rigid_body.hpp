@@ -13,7 +13,6 @@
 namespace arphys::dynamics {
 
 enum class BodyMotion { kStatic, kKinematic, kDynamic };
-const char* to_string(BodyMotion motion);
 
 struct RigidBody {
   std::string id;

@@ -63,8 +63,13 @@ TEST(LensPipeline, TheTrackedBoxStaysOnItsImageThroughABarrelLens) {
   for (const nlohmann::json* report : {&pinhole, &lens}) {
     const int captured = (*report)["frames"]["captured"];
     EXPECT_GE(captured, 150);  // 6 s at 30 FPS
-    EXPECT_GE((*report)["frames"]["tracked"].get<int>(), captured - 3);
-    EXPECT_GE((*report)["frames"]["rendered"].get<int>(), captured - 3);
+    // Nearly every frame is tracked and drawn. Not every one: starved of CPU (the other
+    // integration tests' pipelines on the same cores), the renderer draws the newest of the
+    // frames waiting and counts the rest dropped, by design; 4 of 181 were, in a coverage
+    // build beside two busy loops. Every frame crossing is the launch test's subject, the lens
+    // this one's.
+    EXPECT_GE((*report)["frames"]["tracked"].get<int>(), captured - captured / 20);
+    EXPECT_GE((*report)["frames"]["rendered"].get<int>(), captured - captured / 20);
     ASSERT_GE((*report)["registration"]["count"].get<int>(), captured / 2);
   }
   const double p50 = lens["registration"]["p50_px"], p95 = lens["registration"]["p95_px"];

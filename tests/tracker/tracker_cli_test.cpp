@@ -158,6 +158,10 @@ TEST(TrackerCli, RefusesAMissingSourceAndAMismatchedCamera) {
   CliRun r = run("--source /nonexistent/video.mp4 --json --no-lcm");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("/nonexistent/video.mp4"), std::string::npos) << r.out;
+  // A webcam that is not there (no camera on a CI machine: the device path is all it tests).
+  r = run("--source /dev/video97 --json --no-lcm");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.out.find("cannot open camera /dev/video97"), std::string::npos) << r.out;
   r = run("--source " + kData + "apriltag_photos --json --no-lcm");  // default camera: 640x480
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("640x480"), std::string::npos) << r.out;

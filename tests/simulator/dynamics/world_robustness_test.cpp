@@ -146,7 +146,7 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
   b.mass = geometry::with_mass(geometry::box_mass_properties({0.3, 0.2, 0.1}, 1000), 1.0);
   b.w_W_rad_s = Eigen::Vector3d(1, 30, 1);
   world.add_body(b);
-  auto energy = [&] { return 0.5 * world.bodies()[0].w_W_rad_s.dot(world.bodies()[0].inertia_W() * world.bodies()[0].w_W_rad_s); };
+  auto energy = [&] { return world.bodies()[0].kinetic_energy_J(); };
   auto momentum = [&] { return Eigen::Vector3d(world.bodies()[0].inertia_W() * world.bodies()[0].w_W_rad_s); };
   const double e0 = energy();
   const Eigen::Vector3d L0 = momentum();
@@ -505,8 +505,7 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
   ASSERT_GE(bunny, 0);
   const auto energy_J = [&] {
     const RigidBody& b = world.bodies()[bunny];
-    return 0.5 * b.mass.mass_kg * b.v_WC_m_s.squaredNorm() + 0.5 * b.w_W_rad_s.dot(b.inertia_W() * b.w_W_rad_s) -
-           b.mass.mass_kg * world.options().gravity_m_s2.dot(b.com_W());
+    return b.kinetic_energy_J() - b.mass.mass_kg * world.options().gravity_m_s2.dot(b.com_W());
   };
   double energy_before = energy_J(), fastest_spin = 0;
   for (int k = 0; k < 60; ++k) {
