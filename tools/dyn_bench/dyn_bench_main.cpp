@@ -128,7 +128,7 @@ struct Csv {
 };
 
 void run_stack(const std::vector<std::string>& engines, double duration, const std::vector<double>& dts, Csv& csv) {
-  std::printf("\n== stack: frictionless, %.0f s\n%-18s %3s %6s %8s %9s %12s %10s %10s\n", duration, "engine", "n", "dt_ms",
+  std::printf("\n== stack: frictionless, %g s\n%-18s %3s %6s %8s %9s %12s %10s %10s\n", duration, "engine", "n", "dt_ms",
               "toppled", "topple_s", "top_drift_mm", "tilt_deg", "ms/step");
   for (int n : {5, 10})
     for (double dt : dts)
