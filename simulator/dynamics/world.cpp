@@ -189,6 +189,7 @@ int World::add_body(RigidBody body) {
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
   radius_m_.push_back(body.bounding_radius_m());
   placed_since_step_.push_back(1);
+  placed_to_wake_.push_back(0);
   quiet_s_.push_back(0);
   asleep_.push_back(0);
   touching_.emplace_back();
@@ -201,6 +202,7 @@ void World::place_body(int index, const geometry::Pose& X_WB) {
   if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
   body.X_WB = X_WB;
   placed_since_step_.at(index) = 1;
+  placed_to_wake_.at(index) = 1;
   wake({index});
 }
 
@@ -220,6 +222,7 @@ void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);
   quiet_s_.erase(quiet_s_.begin() + index);
+  placed_to_wake_.erase(placed_to_wake_.begin() + index);
   asleep_.erase(asleep_.begin() + index);
   touching_.erase(touching_.begin() + index);
   for (auto& partners : touching_) {
@@ -1145,6 +1148,15 @@ std::vector<int> World::hold_sleepers(double dt_s) {
       continue;
     }
     if (asleep_[i]) woken.push_back(i);  // (a sleeper given a velocity from outside)
+    if (placed_to_wake_[i]) {
+      // Placed: it reaches what its new pose touches (a plane, everything).
+      if (!std::isfinite(radius_m_[i])) {
+        for (int j = 0; j < n; ++j)
+          if (asleep_[j]) woken.push_back(j);
+      } else {
+        reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
+      }
+    }
     if (body.motion == BodyMotion::kKinematic && speed_m_s > 0)
       reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
     if (body.is_dynamic() && speed_m_s >= options_.sleep_speed_m_s)
@@ -1387,6 +1399,7 @@ StepReport World::step(double dt_s) {
   if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
   time_s_ += dt_s;
   placed_since_step_.assign(bodies_.size(), 0);
+  placed_to_wake_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);
   report.mesh_crossing_tests = crossing_tests_;
   return report;

@@ -351,6 +351,10 @@ class World {
   // Sleeping (WorldOptions::sleep_after_s): how long each body has been quiet, and whether it sleeps.
   std::vector<double> quiet_s_;
   std::vector<char> asleep_;
+  // Bodies moved by place_body since the last step: each wakes the sleepers its new pose
+  // reaches (held as fixed bodies, they would meet a placed kinematic body as two
+  // non-dynamic bodies do: not at all).
+  std::vector<char> placed_to_wake_;
   std::vector<std::vector<int>> touching_;  // a sleeper's dynamic contact partners when it fell asleep
   std::vector<Contact> contacts_;
   // Where each pair pushed in the previous step (contacts_ with an impulse), sorted by pair.

@@ -107,7 +107,10 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
     }
     geometry::Pose to = from;
     if (s.drive == Drive::kTeleport) {
-      if (teleport_to_new) box_body.X_WB = newest;  // jumps: no motion, no velocity
+      // Jumps: no motion, no velocity. Placed, so the world sees the jump (its pairs are
+      // tested for overlap, the sleepers it lands in wake); set through body() instead, it
+      // passed through the sleeping bunny and the noise-free cells never pushed it.
+      if (teleport_to_new) world.place_body(box, newest);
       to = box_body.X_WB;
       box_body.trajectory = dynamics::KinematicTrajectory();
       box_body.trajectory.add(t0, to);

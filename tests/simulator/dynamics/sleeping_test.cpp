@@ -141,5 +141,31 @@ TEST(Sleeping, RemovingABodyKeepsTheSleepersPartnersRight) {
   EXPECT_FALSE(world.asleep(bottom)) << "woken through the top box's contact";
 }
 
+// A tracked box placed (moved without a motion, as a naive coupling or a recovery does)
+// 5 mm into a sleeping box wakes it: the sleeper is pushed out, at most at the
+// depenetration speed.
+// (Only a body's own placing woke it: held as a fixed body, the sleeper and the kinematic
+// box met as two non-dynamic bodies, and they stayed 5 mm inside each other for good.)
+TEST(Sleeping, ABodyPlacedIntoASleeperWakesIt) {
+  WorldOptions options = sleepy();
+  World world(options);
+  world.add_body(plane_body());
+  const int target = world.add_body(cube("target", {0, 0, 0.1 + 1e-6}));
+  RigidBody pusher = cube("pusher", {-0.5, 0, 0.1 + 1e-6});
+  pusher.motion = BodyMotion::kKinematic;
+  const int p = world.add_body(pusher);
+  for (int k = 0; k < 40; ++k) world.step(0.01);
+  ASSERT_TRUE(world.asleep(target));
+  world.place_body(p, geometry::translation_pose({-0.2 + 0.005, 0, 0.1 + 1e-6}));
+  ASSERT_NEAR(overlap_m(world, p, target), 0.005, 1e-5);
+  world.step(0.01);
+  EXPECT_FALSE(world.asleep(target));
+  for (int k = 0; k < 30; ++k) world.step(0.01);
+  EXPECT_LE(overlap_m(world, p, target), options.overlap_tolerance_m);
+  EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.005 - options.overlap_tolerance_m);
+  // Pushed apart, not launched: it slides off (a frictionless floor) no faster than that.
+  EXPECT_LE(world.bodies()[target].v_WC_m_s.norm(), options.max_depenetration_speed_m_s + 1e-9);
+}
+
 }  // namespace
 }  // namespace arphys::dynamics
