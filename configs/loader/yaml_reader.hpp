@@ -30,7 +30,7 @@ class Reader {
   static std::string shown(const YAML::Node& node) {
     if (!node.IsDefined() || node.IsNull()) return "nothing";
     if (node.IsScalar()) return "'" + node.Scalar() + "'";
-    if (node.IsSequence()) return "a list";
+    if (node.IsSequence()) return node.size() == 0 ? "an empty list" : "a list of " + std::to_string(node.size());
     return "a map";
   }
 

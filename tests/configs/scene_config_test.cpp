@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include "configs/loader/config_error.hpp"
 
@@ -207,6 +209,62 @@ TEST_F(BadScene, SleepingTimesAndSpeedsAreChecked) {
   EXPECT_NE(error.find("physics.sleep_speed_m_s"), std::string::npos) << error;
   error = load_error(ball, "physics: {sleep_speed_m_s: 3}\n");
   EXPECT_NE(error.find("expected a speed of at most 1 m/s"), std::string::npos) << error;
+}
+
+// Every other refusal of the loader, one bad key each: the message names the key (its
+// path in the file) and what was expected there.
+TEST_F(BadScene, EveryRefusalNamesTheKeyAndWhatWasExpected) {
+  const std::string ball = "  - id: ball\n    role: virtual\n    motion: dynamic\n    collision: {shape: sphere, radius_m: 0.1}\n";
+  const std::string pose = "{position_m: [0, 0, 0.5], orientation_wxyz: [1, 0, 0, 0]}";
+  struct Case {
+    std::string objects, top, expected;
+  };
+  const std::vector<Case> cases{
+      {"  - id: b\n    role: virtual\n    motion: floating\n    collision: {shape: sphere, radius_m: 0.1}\n", "",
+       "objects[1].motion: got 'floating', expected 'static', 'kinematic' or 'dynamic'"},
+      {"  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: plane}\n", "",
+       "objects[1].collision.shape: a plane cannot be dynamic (it has no mass), expected box, sphere or mesh"},
+      {ball + "    mass_kg: 1\n    density_kg_m3: 1000\n", "",
+       "objects[1].density_kg_m3: given together with mass_kg, expected at most one of them"},
+      {ball + "    density_kg_m3: -5\n", "", "objects[1].density_kg_m3: got -5, expected a positive density in kg/m^3"},
+      {ball + "    friction: -0.1\n", "", "objects[1].friction: got -0.1, expected a Coulomb friction coefficient >= 0"},
+      {"  - id: pusher\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.2, 0.2, 0.2]}\n"
+       "    trajectory: []\n",
+       "", "objects[1].trajectory: got an empty list, expected a non-empty list of {t_s, pose}"},
+      {ball + "    markers:\n      - {family: tag36h11, id: 5, size_m: 0.05, pose: " + pose + "}\n", "",
+       "objects[1].markers: a virtual object carries no markers, expected markers only on real objects"},
+      {"  - id: pusher\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.2, 0.2, 0.2]}\n"
+       "    spawn: {max_instances: 2}\n",
+       "", "objects[1].spawn: only virtual dynamic objects can be spawned"},
+      {ball + "    spawn: {max_instances: 0}\n", "", "objects[1].spawn.max_instances: got 0, expected 1 to 10000"},
+      {ball + "    spawn:\n      max_instances: 1\n      at_start:\n        - {pose: " + pose + "}\n        - {pose: " + pose +
+           "}\n",
+       "", "objects[1].spawn.at_start: 2 instances, more than max_instances = 1"},
+      {ball, "channels: {world_stat: MY_WORLD}\n", "channels.world_stat: unknown key"},
+      {ball, "physics: {solver_iterations: 0}\n", "physics.solver_iterations: got 0, expected 1 to 100000 sweeps"},
+      {ball, "physics: {time_step_s: 0.5}\n", "physics.time_step_s: got 0.5, expected a time step of at most 0.1 s"},
+  };
+  for (const Case& c : cases) {
+    const std::string message = load_error(c.objects, c.top);
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in: " << message;
+  }
+}
+
+// What those keys accept: channel names, and a dynamic object's starting velocities.
+TEST(SceneConfig, ChannelsAndStartingVelocitiesAreReadWhenGiven) {
+  const std::string path = ::testing::TempDir() + "channels_scene.yaml";
+  std::ofstream(path) << "name: channels\nchannels: {world_state: MY_WORLD, sim_command: MY_COMMANDS}\nobjects:\n"
+                         "  - {id: floor, role: real, motion: static, collision: {shape: plane}}\n"
+                         "  - {id: ball, role: virtual, motion: dynamic, collision: {shape: sphere, radius_m: 0.1},\n"
+                         "     velocity_m_s: [1, 2, 3], angular_velocity_rad_s: [0, 0, 5]}\n";
+  const SceneConfig scene = load_scene(path);
+  EXPECT_EQ(scene.channels.world_state, "MY_WORLD");
+  EXPECT_EQ(scene.channels.sim_command, "MY_COMMANDS");
+  EXPECT_EQ(scene.channels.object_poses, "ARPHYS_OBJECT_POSES");  // the others keep their defaults
+  const ObjectConfig* ball = scene.find_object("ball");
+  ASSERT_NE(ball, nullptr);
+  EXPECT_EQ(ball->v_WO_m_s, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(ball->w_WO_rad_s, Eigen::Vector3d(0, 0, 5));
 }
 
 TEST(SceneConfig, SleepingIsOffUnlessAsked) {
