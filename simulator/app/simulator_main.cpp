@@ -252,7 +252,8 @@ int main(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   auto last_status = start, last_checkpoint = start;
   int64_t published = 0, steps_since_status = 0;
-  double wall_clock_dropped_s = 0;  // the wall clock's share of --max-lag-s drops
+  double wall_clock_dropped_s = 0;  // the wall clock's share of --max-lag-s drops, and the time paused
+  bool was_paused = false;
   auto last_drop_line = start - std::chrono::seconds(1);
   double stage_ms_since_status = 0;
   std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
@@ -286,6 +287,11 @@ int main(int argc, char** argv) {
     if (duration_s > 0 && elapsed_s > duration_s) break;
     bus->handle_timeout_ms(static_cast<int>(std::max(1.0, 1e3 * scene.time_step_s / 2)));
     bus->handle_pending();
+    // Resumed: on the wall clock, the time paused is not simulated either (the core maps
+    // captures past it on its own).
+    if (was_paused && !core->paused() && clock == "wall")
+      wall_clock_dropped_s += std::max(0.0, clock_time() - core->sim_time_s());
+    was_paused = core->paused();
     keep_within_max_lag();
     double target = clock_time();
     while (!g_stop && core->sim_time_s() + scene.time_step_s <= target + 1e-12 && !core->paused()) {

@@ -56,15 +56,19 @@ void SimulatorCore::drop_time(double dropped_s) {
   if (!(dropped_s > 0) || !std::isfinite(dropped_s))
     throw std::invalid_argument("SimulatorCore::drop_time: dropped_s must be positive and finite, got " +
                                 std::to_string(dropped_s));
-  const int64_t dropped_us = std::llround(dropped_s * 1e6);
-  const double dropped = static_cast<double>(dropped_us) * 1e-6;  // as the capture mapping moves
-  if (first_capture_utime_) *first_capture_utime_ += dropped_us;
-  for (auto& [id, seen_s] : last_seen_s_) seen_s -= dropped;
   // The tracked bodies' poses move with their captures, so the next step carries each
   // body through dropped_s more of its motion: its speed that step is (1 + dropped_s / dt)
   // times its own, which is why the caller gives up small amounts often, not a backlog at once.
-  for (auto& [id, driver] : drivers_) driver.shift_time(-dropped);
-  dropped_time_s_ += dropped;
+  dropped_time_s_ += shift_clock(dropped_s);
+}
+
+double SimulatorCore::shift_clock(double by_s) {
+  const int64_t by_us = std::llround(by_s * 1e6);
+  const double by = static_cast<double>(by_us) * 1e-6;  // as the capture mapping moves
+  if (first_capture_utime_) *first_capture_utime_ += by_us;
+  for (auto& [id, seen_s] : last_seen_s_) seen_s -= by;
+  for (auto& [id, driver] : drivers_) driver.shift_time(-by);
+  return by;
 }
 
 int SimulatorCore::on_tracking(const TrackingFrame& frame) {
@@ -84,6 +88,7 @@ int SimulatorCore::on_tracking(const TrackingFrame& frame) {
   }
   newest_capture_utime_ = frame.capture_utime;
   newest_seq_ = frame.seq;
+  if (paused_) return 0;  // (the tracked bodies are held: see on_command)
   const double t = sim_time_of(frame.capture_utime);
   int used = 0;
   for (const TrackedObject& object : frame.objects) {
@@ -128,8 +133,23 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
   if (last == last_command_seq_.end() && last_command_seq_.size() >= kMaxSenders) last_command_seq_.clear();
   last_command_seq_[command.sender] = command.seq;
   switch (command.kind) {
-    case SpawnRequest::Kind::kPause: paused_ = true; return true;
-    case SpawnRequest::Kind::kResume: paused_ = false; return true;
+    case SpawnRequest::Kind::kPause:
+      if (!paused_) {
+        // The tracked bodies stop where they are, as on a lost track: frames that come
+        // while paused move nothing, and the first after the resume re-acquires them.
+        for (auto& [id, driver] : drivers_) driver.on_lost(world_.time_s());
+        paused_ = true;
+      }
+      return true;
+    case SpawnRequest::Kind::kResume:
+      if (paused_) {
+        paused_ = false;
+        // The time paused is not simulated: the captures map that much earlier from now
+        // on, so the world goes on from where it stopped instead of running through it.
+        const double paused_s = clock_started() ? sim_time_of(newest_capture_utime_) - world_.time_s() : 0.0;
+        if (paused_s > 0) shift_clock(paused_s);
+      }
+      return true;
     case SpawnRequest::Kind::kReset: reset(); return true;
     case SpawnRequest::Kind::kRemove: {
       const int index = world_.find(command.body_id);

@@ -80,7 +80,10 @@ class SimulatorCore {
 
   // Returns how many objects of the frame were used; every refusal is counted.
   int on_tracking(const TrackingFrame& frame);
-  // Returns true when the command was carried out.
+  // Returns true when the command was carried out. Pause holds the world and the tracked
+  // bodies where they are (frames while paused move nothing); resume goes on from there,
+  // the time paused not simulated, and the next frame re-acquires the tracked bodies as
+  // after a lost track (moving them to where they are seen at the driver's speed limit).
   bool on_command(const SpawnRequest& command);
 
   // Puts back the virtual dynamic bodies a previous run of the process left (after a
@@ -136,6 +139,9 @@ class SimulatorCore {
                            const Eigen::Vector3d& v_WB_m_s, const Eigen::Vector3d& w_WB_rad_s, bool resumed = false);
   void reset();
   void update_kinematic(double t0, double t1);
+  // Maps captures by_s earlier from now on (the tracked bodies' poses and last sightings
+  // with them); returns the shift as applied, in whole microseconds.
+  double shift_clock(double by_s);
 
   config::SceneConfig scene_;
   CoreOptions options_;

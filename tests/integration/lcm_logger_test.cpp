@@ -21,8 +21,10 @@
 
 namespace {
 
-// A port of its own so parallel test runs and a live pipeline do not mix.
+// Ports of their own so parallel test runs (these two tests among them) and a live
+// pipeline do not mix.
 const std::string kUrl = "udpm://239.255.76.67:7991?ttl=0";
+const std::string kSceneInfoUrl = "udpm://239.255.76.67:7987?ttl=0";
 
 
 bool multicast_available() {
@@ -80,7 +82,7 @@ TEST(SceneInfo, MainToolLoadsBothScenesAndRoundTripsOverLcm) {
   if (!multicast_available()) GTEST_SKIP() << "no multicast route on this host";
   for (const char* scene : {"bunny_box_table", "spoon_teacup"}) {
     const std::string command = std::string(ARPHYS_BINARY_DIR) + "/tools/scene_info/arphys-scene-info " +
-                                ARPHYS_SOURCE_DIR + "/configs/scenes/" + scene + ".yaml --lcm-url '" + kUrl + "'";
+                                ARPHYS_SOURCE_DIR + "/configs/scenes/" + scene + ".yaml --lcm-url '" + kSceneInfoUrl + "'";
     const arphys::testing::CommandRun run = arphys::testing::run_command(command);
     EXPECT_EQ(run.exit_code, 0) << run.out;
     EXPECT_NE(run.out.find(std::string("scene ") + scene), std::string::npos) << run.out;

@@ -52,7 +52,7 @@ nlohmann::json run_application_two(const std::string& dir, const std::string& ur
 // the world state of a frame or two before. A tracker that ignored the lens would add
 // the lens's own displacement.)
 TEST(LensPipeline, TheTrackedBoxStaysOnItsImageThroughABarrelLens) {
-  const std::string url = "udpm://239.255.76.67:7993?ttl=0";
+  const std::string url = "udpm://239.255.76.67:7988?ttl=0";
   {
     lcm::LCM probe(url);
     if (!probe.good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";

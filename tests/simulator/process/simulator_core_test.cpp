@@ -63,6 +63,98 @@ TEST(SimulatorCore, TrackedBoxFollowsOneFrameLateAndIsHeldWhenLost) {
   EXPECT_EQ(core.lost_objects(), std::vector<std::string>{"box"});
 }
 
+// The tracker's LOST status holds the box where it is at once (not after the stale
+// timeout), and is not an error; a pose not in the world frame (the table unseen) is
+// refused with its reason. The next pose re-acquires the box, which moves there no faster
+// than the driver's speed limit.
+TEST(SimulatorCore, ALostTrackHoldsTheBoxAtOnceAndTheNextPoseReacquiresIt) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  scene.time_step_s = 0.01;
+  SimulatorCore core(scene, {});
+  const int box = core.world().find("box");
+  int k = 0;
+  for (; k <= 15; ++k) core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
+  core.advance_to(core.sim_time_of(kStart + 15 * 33'333));
+  TrackingFrame lost = frame(kStart + 16 * 33'333, 17, "box", {0, 0, 0});
+  lost.objects[0].lost = true;
+  EXPECT_EQ(core.on_tracking(lost), 0);
+  TrackingFrame unframed = frame(kStart + 17 * 33'333, 18, "box", {0.9, 0, 0.0755});
+  unframed.objects[0].world_valid = false;
+  EXPECT_EQ(core.on_tracking(unframed), 0);
+  EXPECT_EQ(core.rejections().at("pose of 'box' not in the world frame"), 1);
+  EXPECT_EQ(core.rejected_total(), 1);  // the LOST status was not one
+  core.advance_to(core.sim_time_of(kStart + 17 * 33'333) + 0.2);  // well within the stale timeout
+  // Held where it was last seen (0.40 m; one frame late, it got there as the LOST frame came).
+  const double held_x = core.world().bodies()[box].X_WB.translation().x();
+  EXPECT_NEAR(held_x, 0.40, 1e-6);
+  core.advance_to(core.sim_time_s() + 0.1);
+  EXPECT_EQ(core.world().bodies()[box].X_WB.translation().x(), held_x);
+  // Seen again 10 cm further: it moves there, at most 1.5 m/s (the driver's limit).
+  const double t = core.sim_time_s();
+  core.on_tracking(frame(kStart + 30 * 33'333, 31, "box", {held_x + 0.1, 0, 0.0755}));
+  double x = held_x, fastest_m_s = 0;
+  while (core.sim_time_s() < t + 0.5) {
+    core.advance_to(core.sim_time_s() + scene.time_step_s);
+    const double next_x = core.world().bodies()[box].X_WB.translation().x();
+    fastest_m_s = std::max(fastest_m_s, (next_x - x) / scene.time_step_s);
+    x = next_x;
+  }
+  EXPECT_NEAR(x, held_x + 0.1, 1e-6);
+  EXPECT_LE(fastest_m_s, 1.5 + 1e-6);
+}
+
+// Pause (the renderer's p key) freezes the virtual world and the tracked box where they
+// are; resume goes on from there. The time paused is not simulated afterwards (before,
+// the world fast-forwarded through it at the next step, a tracked box pushing through
+// everything it had been moved across meanwhile), and the box, moved while paused, is
+// re-acquired as after a lost track.
+TEST(SimulatorCore, PauseFreezesTheWorldAndResumeGoesOnFromWhereItWas) {
+  config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
+  scene.time_step_s = 0.01;
+  SimulatorCore core(scene, {});
+  const int box = core.world().find("box");
+  int seq = 0;
+  const auto feed = [&](double from_s, double to_s, double box_x_at_0, double speed_m_s) {
+    for (double t = from_s; t <= to_s + 1e-9; t += 1.0 / 30) {
+      const int64_t utime = kStart + std::llround(t * 1e6);
+      core.on_tracking(frame(utime, ++seq, "box", {box_x_at_0 + speed_m_s * t, 0, 0.0755}));
+      core.advance_to(core.sim_time_of(utime));
+    }
+  };
+  feed(0.0, 0.5, 0.25, 0.0);
+  SpawnRequest command;
+  command.sender = "renderer";
+  command.seq = 1;
+  command.kind = SpawnRequest::Kind::kPause;
+  ASSERT_TRUE(core.on_command(command));
+  EXPECT_TRUE(core.paused());
+  const double paused_at_s = core.sim_time_s();
+  const std::vector<dynamics::RigidBody> frozen = core.world().bodies();
+  feed(0.5 + 1.0 / 30, 2.5, 0.25 - 0.1 * 0.5, 0.1);  // 2 s paused; the box moved 20 cm meanwhile
+  EXPECT_EQ(core.sim_time_s(), paused_at_s);
+  for (std::size_t i = 0; i < frozen.size(); ++i)
+    EXPECT_TRUE(core.world().bodies()[i].X_WB.matrix() == frozen[i].X_WB.matrix()) << frozen[i].id;
+  command.seq = 2;
+  command.kind = SpawnRequest::Kind::kResume;
+  ASSERT_TRUE(core.on_command(command));
+  EXPECT_FALSE(core.paused());
+  double fastest_m_s = 0, x = core.world().bodies()[box].X_WB.translation().x();
+  for (double t = 2.5 + 1.0 / 30; t <= 3.0 + 1e-9; t += 1.0 / 30) {
+    const int64_t utime = kStart + std::llround(t * 1e6);
+    core.on_tracking(frame(utime, ++seq, "box", {0.45, 0, 0.0755}));  // it stays where it was moved to
+    while (core.sim_time_s() + scene.time_step_s <= core.sim_time_of(utime) + 1e-12) {
+      core.advance_to(core.sim_time_s() + scene.time_step_s);
+      const double next_x = core.world().bodies()[box].X_WB.translation().x();
+      fastest_m_s = std::max(fastest_m_s, (next_x - x) / scene.time_step_s);
+      x = next_x;
+    }
+  }
+  EXPECT_NEAR(core.sim_time_s(), paused_at_s + 0.5, 0.02) << "half a second since the resume, not 2.5";
+  EXPECT_LE(fastest_m_s, 1.5 + 1e-6);  // re-acquired at the driver's limit, not swept in one step
+  EXPECT_NEAR(x, 0.45, 1e-6);
+  EXPECT_EQ(core.dropped_time_s(), 0.0) << "a pause is not time given up to keep up";
+}
+
 TEST(SimulatorCore, ExtrapolatePolicyAddsNoLatency) {
   CoreOptions options;
   options.policy = TrackingPolicy::kExtrapolate;
