@@ -76,21 +76,37 @@ std::vector<BodyToDraw> bodies_from_csv(const std::string& path, double t_s, con
   std::string line;
   std::getline(in, line);  // header
   std::map<std::string, BodyToDraw> latest;
-  double latest_t = -1;
+  static const char* const kColumns[] = {"t", "id", "px", "py", "pz", "qw", "qx", "qy", "qz"};
+  int line_number = 1;
   while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty()) continue;
+    const std::string where = "states file " + path + " line " + std::to_string(line_number);
     std::istringstream row(line);
     std::string field;
     std::vector<std::string> f;
     while (std::getline(row, field, ',')) f.push_back(field);
-    if (f.size() < 9) continue;
-    const double t = std::stod(f[0]);
+    if (f.size() < 9)
+      throw std::runtime_error(where + ": " + std::to_string(f.size()) + " fields, expected at least 9 (t,id,px,py,pz,qw,qx,qy,qz)");
+    const auto number = [&](int column) {
+      const char* text = f[column].c_str();
+      char* end = nullptr;
+      const double value = std::strtod(text, &end);
+      if (end == text || *end != '\0' || !std::isfinite(value))
+        throw std::runtime_error(where + ": " + kColumns[column] + " is '" + f[column] + "', expected a finite number");
+      return value;
+    };
+    const double t = number(0);
     if (t > t_s + 1e-9) break;
-    if (t > latest_t) latest_t = t;
     const std::string model = f[1].substr(0, f[1].find('#'));
     const config::ObjectConfig* object = scene.find_object(model);
-    latest[f[1]] = {model, object && object->role == config::Role::kReal,
-                    geometry::make_pose({std::stod(f[2]), std::stod(f[3]), std::stod(f[4])},
-                                        {std::stod(f[5]), std::stod(f[6]), std::stod(f[7]), std::stod(f[8])}, f[1], 1e-3)};
+    try {
+      latest[f[1]] = {model, object && object->role == config::Role::kReal,
+                      geometry::make_pose({number(2), number(3), number(4)}, {number(5), number(6), number(7), number(8)},
+                                          f[1], 1e-3)};
+    } catch (const std::invalid_argument& e) {  // (make_pose: a quaternion too far from unit)
+      throw std::runtime_error(where + ": " + e.what());
+    }
   }
   if (latest.empty()) throw std::runtime_error("states file " + path + " has no rows at or before t = " + std::to_string(t_s));
   std::vector<BodyToDraw> bodies;

@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 
 #include <opencv2/imgcodecs.hpp>
@@ -70,6 +71,47 @@ TEST(RendererCli, RefusesBadInputWithExitCode2) {
   r = run(kRenderer + " --scene " + kSrc + "/configs/scenes/bunny_box_table.yaml --camera-pose \"0 0 1 2 0 0 0\"");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.out.find("--camera-pose"), std::string::npos) << r.out;
+}
+
+// A `simulate` CSV drawn offline at a time (--states, --time): the scene's bodies where the
+// simulation had them; a malformed row is refused naming the file, the line and the column.
+TEST(RendererCli, OfflineDrawsASimulateCsvAndNamesItsBadRows) {
+  const std::string dir = ::testing::TempDir() + "renderer_cli_states/";
+  std::filesystem::create_directories(dir);
+  const std::string scene = kSrc + "/configs/scenes/bunny_box_table.yaml";
+  const CliRun sim = run(kBin + "/simulator/simulate/simulate " + scene + " --duration 0.2 --csv " + dir + "states.csv");
+  ASSERT_EQ(sim.exit_code, 0) << sim.out;
+  cv::imwrite(dir + "background.png", cv::Mat(480, 640, CV_8UC3, cv::Scalar(40, 80, 120)));
+  const std::string offline = kRenderer + " --scene " + scene + " --background " + dir + "background.png --out " + dir +
+                              "out.png --states ";
+  const auto changed_pixels = [](const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat difference;
+    cv::absdiff(a, b, difference);
+    cv::cvtColor(difference, difference, cv::COLOR_BGR2GRAY);
+    return cv::countNonZero(difference);
+  };
+  // The bunny, thrown at 0.6 m/s, drawn where it is at 0 s and at 0.15 s (real objects
+  // only hide what is behind them: the camera's picture shows them).
+  const cv::Mat background(480, 640, CV_8UC3, cv::Scalar(40, 80, 120));
+  std::vector<cv::Mat> frames;
+  for (const char* time : {"0", "0.15"}) {
+    const CliRun r = run(offline + dir + "states.csv --time " + time);
+    ASSERT_EQ(r.exit_code, 0) << r.out;
+    frames.push_back(cv::imread(dir + "out.png", cv::IMREAD_COLOR));
+    EXPECT_GT(changed_pixels(frames.back(), background), 1000) << "the bunny at " << time << " s";
+  }
+  EXPECT_GT(changed_pixels(frames[0], frames[1]), 1000) << "the bunny moved";
+  const auto refused = [&](const std::string& rows, const std::string& expected) {
+    std::ofstream(dir + "bad.csv") << "t,id,px,py,pz,qw,qx,qy,qz\n" << rows;
+    const CliRun bad = run(offline + dir + "bad.csv");
+    EXPECT_EQ(bad.exit_code, 2) << bad.out;
+    EXPECT_NE(bad.out.find("states file " + dir + "bad.csv " + expected), std::string::npos) << bad.out;
+  };
+  refused("0,box,0.1,0,0.1,1,0,0,0\n0,bunny#0,abc,0,0.3,1,0,0,0\n", "line 3: px is 'abc', expected a finite number");
+  refused("0,box,0.1,0\n", "line 2: 4 fields, expected at least 9");
+  refused("0,box,0.1,0,0.1,2,0,0,0\n", "line 2: box: quaternion");
+  refused("", "has no rows at or before t = 0");
+  std::filesystem::remove_all(dir);
 }
 
 // The synthetic camera's frames of the box push, written to a folder, tracked: the box is
