@@ -3,6 +3,9 @@
 // source and a calibration that does not match the frames.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,9 +16,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
 
+#include "arphys/image_t.hpp"
 #include "configs/loader/camera_config.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/bus.hpp"
+#include "lcmtypes/msg/image_message.hpp"
 #include "tests/support/run_command.hpp"
+#include "tests/support/spawn_process.hpp"
 #include "tests/tracker/tracker_test_support.hpp"
 #include "tracker/synthetic/marker_image_renderer.hpp"
 
@@ -152,6 +159,45 @@ TEST(TrackerCli, ObjectsOfASceneFile) {
   EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - X_CB.translation()).norm(), 2e-3);
   EXPECT_GE(objects["box"].at("markers_used").size(), 2u);  // top and front faces
   if (!getenv("KEEP")) std::filesystem::remove_all(folder);
+}
+
+// A folder played at its frame rate (--pace, --fps 10) and its frames republished on LCM
+// for the renderer (--publish-images): every frame arrives, as a JPEG of the folder's
+// picture size, stamped with its capture time, a tenth of a second apart as they are played.
+TEST(TrackerCli, APacedFolderIsRepublishedFrameByFrame) {
+  const std::string url = "udpm://239.255.76.67:7985?ttl=0";  // a port of its own
+  if (!lcm::LCM(url).good()) GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  arphys::msg::Bus bus(url);
+  std::vector<arphys::image_t> images;
+  std::vector<std::chrono::steady_clock::time_point> arrivals;
+  bus.subscribe<arphys::image_t>(arphys::config::SceneConfig().channels.camera_image,
+                                 [&](const arphys::image_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                   images.push_back(m);
+                                   arrivals.push_back(std::chrono::steady_clock::now());
+                                 });
+  const pid_t tracker = arphys::testing::spawn_process(
+      {kTracker, "--camera", kData + "nominal_camera_799x533.yaml", "--source", kData + "apriltag_photos", "--marker-size",
+       "0.05", "--fps", "10", "--pace", "--publish-images", "--lcm-url", url});
+  ASSERT_GT(tracker, 0);
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (waitpid(tracker, &status, WNOHANG) == 0 && std::chrono::steady_clock::now() < deadline) bus.handle_timeout_ms(20);
+  for (int k = 0; k < 10; ++k) bus.handle_timeout_ms(20);  // what is still on its way
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the tracker ends with the folder, status " << status;
+  ASSERT_EQ(images.size(), 3u);  // the folder's three photos
+  for (std::size_t k = 0; k < images.size(); ++k) {
+    EXPECT_EQ(images[k].pixel_format, arphys::image_t::PIXEL_FORMAT_JPEG);
+    const cv::Mat picture = arphys::msg::decode_image_message(images[k]);
+    EXPECT_EQ(picture.cols, 799);
+    EXPECT_EQ(picture.rows, 533);
+    if (k > 0) {
+      EXPECT_EQ(images[k].utime - images[k - 1].utime, 100'000);  // capture times at --fps 10
+      EXPECT_EQ(images[k].seq, images[k - 1].seq + 1);
+    }
+  }
+  // Played, not dumped: two frame intervals between the first and the last (a slower
+  // machine only adds to it).
+  EXPECT_GE(std::chrono::duration<double>(arrivals.back() - arrivals.front()).count(), 0.18);
 }
 
 TEST(TrackerCli, RefusesAMissingSourceAndAMismatchedCamera) {
