@@ -7,6 +7,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "arphys/object_poses_t.hpp"
@@ -15,6 +17,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "tests/support/launch_watch.hpp"
+#include "tests/support/run_command.hpp"
 #include "tests/support/spawn_process.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
@@ -178,6 +181,46 @@ TEST(SimulatorProcess, AHeldUpSimulatorGivesUpItsBacklogPastMaxLag) {
 // A simulator that is always behind (a 1000-box pile at 1 ms steps, some 20 ms each, on the
 // wall clock) keeps giving time up and still publishes its heartbeat once a second: the
 // steps of a batch go on to where the batch was to end, not to the newest clock reading.
+// What the process refuses at its start, and what it starts afresh from: a bad scene file
+// is an exit with code 2 naming the file and the key; a state file that does not decode, or
+// that another scene left, is said to be so, and the scene starts as configured.
+TEST(SimulatorProcess, BadSceneRefusedAndForeignOrCorruptStateFilesStartAfresh) {
+  const std::string url = "udpm://239.255.76.67:7984?ttl=0";  // its own port, as above
+  if (!arphys::testing::multicast_works(url))
+    GTEST_SKIP() << "no multicast route on this host (ip route add 224.0.0.0/4 dev lo)";
+  const std::string dir = ::testing::TempDir() + "simulator_start/";
+  std::filesystem::create_directories(dir);
+  const std::string simulator = std::string(ARPHYS_BINARY_DIR) + "/simulator/app/arphys-simulator ";
+  std::ofstream(dir + "bad_scene.yaml") << "name: bad\nphysics: {time_step_s: 0.5}\nobjects:\n"
+                                           "  - {id: floor, role: real, motion: static, collision: {shape: plane}}\n";
+  arphys::testing::CommandRun run = arphys::testing::run_command(simulator + dir + "bad_scene.yaml --lcm-url '" + url + "'");
+  EXPECT_EQ(run.exit_code, 2) << run.out;
+  EXPECT_NE(run.out.find(dir + "bad_scene.yaml"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("physics.time_step_s: got 0.5, expected a time step of at most 0.1 s"), std::string::npos) << run.out;
+
+  const std::string scene = std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml";
+  const auto start_with_state = [&](const std::string& state_file) {
+    return arphys::testing::run_command(simulator + scene + " --clock wall --duration 0.5 --lcm-url '" + url +
+                                        "' --state-file " + state_file);
+  };
+  std::ofstream(dir + "corrupt.state") << "not a world state";
+  run = start_with_state(dir + "corrupt.state");
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("does not decode as a world state: starting the scene afresh"), std::string::npos) << run.out;
+  arphys::world_state_t foreign{};
+  foreign.scene_name = "spoon_teacup";
+  foreign.num_bodies = 0;
+  foreign.num_contacts = 0;
+  std::vector<uint8_t> bytes(foreign.getEncodedSize());
+  foreign.encode(bytes.data(), 0, static_cast<int>(bytes.size()));
+  std::ofstream(dir + "foreign.state", std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  run = start_with_state(dir + "foreign.state");
+  EXPECT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("is of scene 'spoon_teacup', not 'bunny_box_table': starting the scene afresh"), std::string::npos)
+      << run.out;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(SimulatorProcess, AnAlwaysBehindSimulatorStillBeatsOnceASecond) {
   const std::string url = "udpm://239.255.76.67:7989?ttl=0";  // its own port, as above
   if (!arphys::testing::multicast_works(url))
