@@ -10,6 +10,8 @@
 
 #include <unistd.h>
 
+#include "tests/support/csv_table.hpp"
+
 namespace {
 
 std::string run(const std::string& args, int* exit_code) {
@@ -30,24 +32,18 @@ TEST(SimulateCli, InclineCsvHasTheContractAndTheExactAcceleration) {
   ASSERT_EQ(code, 0) << summary;
   EXPECT_NE(summary.find("500 steps"), std::string::npos) << summary;
   std::ifstream in(csv);
-  std::string line, last_box;
-  std::getline(in, line);
-  EXPECT_EQ(line, "t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
-  int rows = 0;
-  while (std::getline(in, line)) {
-    ++rows;
-    if (line.find(",box,") != std::string::npos) last_box = line;
-  }
-  EXPECT_EQ(rows, 2 * 501);  // two bodies, t = 0 and 500 steps
-  std::stringstream fields(last_box);
-  std::vector<double> v;
-  std::string field;
-  while (std::getline(fields, field, ','))
-    if (field != "box") v.push_back(std::stod(field));
-  ASSERT_EQ(v.size(), 14u);
-  EXPECT_DOUBLE_EQ(v[0], 0.5);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "t,id,px,py,pz,qw,qx,qy,qz,vx,vy,vz,wx,wy,wz");
+  const auto rows = arphys::testing::read_csv(csv);
+  EXPECT_EQ(rows.size(), 2u * 501);  // two bodies, t = 0 and 500 steps
+  const auto box = arphys::testing::rows_where(rows, "id", "box");
+  ASSERT_FALSE(box.empty());
+  using arphys::testing::number;
+  EXPECT_DOUBLE_EQ(number(box.back(), "t"), 0.5);
   // Down the slope at g sin 30 for 0.5 s: 2.4525 m/s along (-cos 30, 0, -sin 30).
-  EXPECT_NEAR(-v[8] * std::cos(M_PI / 6) - v[10] * std::sin(M_PI / 6), 9.81 * 0.5 * 0.5, 1e-9);
+  EXPECT_NEAR(-number(box.back(), "vx") * std::cos(M_PI / 6) - number(box.back(), "vz") * std::sin(M_PI / 6),
+              9.81 * 0.5 * 0.5, 1e-9);
 }
 
 TEST(SimulateCli, BadSceneNamesTheFileAndFails) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/world.hpp"
@@ -28,6 +29,23 @@ double overlap_m(const World& world, int a, int b) {
   for (const auto& point : collision::contact_manifold(A.shape, A.X_WB, B.shape, B.X_WB, 0.0))
     deepest = std::max(deepest, -point.distance_m);
   return deepest;
+}
+
+// A box resting on the floor at the origin (it falls asleep) and a kinematic box 0.5 m
+// behind it along -x that follows `trajectory` (an empty one: it stays where it is put).
+struct SleeperAndPusher {
+  World world;
+  int target = -1, pusher = -1;
+};
+SleeperAndPusher sleeper_and_pusher(const WorldOptions& options, KinematicTrajectory trajectory = {}) {
+  SleeperAndPusher scene{World(options)};
+  scene.world.add_body(plane_body());
+  scene.target = scene.world.add_body(cube("target", {0, 0, 0.1 + 1e-6}));
+  RigidBody pusher = cube("pusher", {-0.5, 0, 0.1 + 1e-6});
+  pusher.motion = BodyMotion::kKinematic;
+  pusher.trajectory = std::move(trajectory);
+  scene.pusher = scene.world.add_body(pusher);
+  return scene;
 }
 
 TEST(Sleeping, ABoxAtRestFallsAsleepAndCostsNothing) {
@@ -69,16 +87,12 @@ TEST(Sleeping, WithoutTheOptionNothingSleeps) {
 // never overlapped, and moves off at the pusher's speed.
 TEST(Sleeping, AMovingTrackedBodyWakesASleeperInTimeToPushIt) {
   WorldOptions options = sleepy();
-  World world(options);
-  world.add_body(plane_body());
-  const int target = world.add_body(cube("target", {0, 0, 0.1 + 1e-6}));
-  RigidBody pusher = cube("pusher", {-0.5, 0, 0.1 + 1e-6});
-  pusher.motion = BodyMotion::kKinematic;
-  pusher.trajectory.add(0.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));
-  pusher.trajectory.add(1.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));  // still for 1 s
-  pusher.trajectory.add(2.0, geometry::translation_pose({0.0, 0, 0.1 + 1e-6}));   // then 0.5 m/s
-  pusher.trajectory.add(2.4, geometry::translation_pose({0.2, 0, 0.1 + 1e-6}));
-  const int p = world.add_body(pusher);
+  KinematicTrajectory trajectory;
+  trajectory.add(0.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));
+  trajectory.add(1.0, geometry::translation_pose({-0.5, 0, 0.1 + 1e-6}));  // still for 1 s
+  trajectory.add(2.0, geometry::translation_pose({0.0, 0, 0.1 + 1e-6}));   // then 0.5 m/s
+  trajectory.add(2.4, geometry::translation_pose({0.2, 0, 0.1 + 1e-6}));
+  auto [world, target, p] = sleeper_and_pusher(options, trajectory);
   double deepest = 0;
   bool slept = false;
   for (int k = 0; k < 240; ++k) {
@@ -148,12 +162,7 @@ TEST(Sleeping, RemovingABodyKeepsTheSleepersPartnersRight) {
 // box met as two non-dynamic bodies, and they stayed 5 mm inside each other for good.)
 TEST(Sleeping, ABodyPlacedIntoASleeperWakesIt) {
   WorldOptions options = sleepy();
-  World world(options);
-  world.add_body(plane_body());
-  const int target = world.add_body(cube("target", {0, 0, 0.1 + 1e-6}));
-  RigidBody pusher = cube("pusher", {-0.5, 0, 0.1 + 1e-6});
-  pusher.motion = BodyMotion::kKinematic;
-  const int p = world.add_body(pusher);
+  auto [world, target, p] = sleeper_and_pusher(options);
   for (int k = 0; k < 40; ++k) world.step(0.01);
   ASSERT_TRUE(world.asleep(target));
   world.place_body(p, geometry::translation_pose({-0.2 + 0.005, 0, 0.1 + 1e-6}));

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -22,6 +23,22 @@ TrackingFrame frame(int64_t utime, int64_t seq, const std::string& id, const Eig
   o.X_WO = geometry::translation_pose(p);
   f.objects.push_back(o);
   return f;
+}
+
+// A body followed along x while the core steps: where it is, and the fastest it moved in a step.
+struct XWatch {
+  double x_m = 0, fastest_m_s = 0;
+};
+
+// Steps the core one time step at a time up to simulation time t_s, watching `body`.
+void step_watching_x(SimulatorCore& core, int body, double t_s, XWatch& watch) {
+  const double dt = core.time_step_s();
+  while (core.sim_time_s() + dt <= t_s + 1e-12) {
+    core.advance_to(core.sim_time_s() + dt);
+    const double x = core.world().bodies()[body].X_WB.translation().x();
+    watch.fastest_m_s = std::max(watch.fastest_m_s, (x - watch.x_m) / dt);
+    watch.x_m = x;
+  }
 }
 
 TEST(SimulatorCore, FramesOutOfOrderDuplicatedOrForUnknownObjectsAreRefusedWithReasons) {
@@ -92,15 +109,10 @@ TEST(SimulatorCore, ALostTrackHoldsTheBoxAtOnceAndTheNextPoseReacquiresIt) {
   // Seen again 10 cm further: it moves there, at most 1.5 m/s (the driver's limit).
   const double t = core.sim_time_s();
   core.on_tracking(frame(kStart + 30 * 33'333, 31, "box", {held_x + 0.1, 0, 0.0755}));
-  double x = held_x, fastest_m_s = 0;
-  while (core.sim_time_s() < t + 0.5) {
-    core.advance_to(core.sim_time_s() + scene.time_step_s);
-    const double next_x = core.world().bodies()[box].X_WB.translation().x();
-    fastest_m_s = std::max(fastest_m_s, (next_x - x) / scene.time_step_s);
-    x = next_x;
-  }
-  EXPECT_NEAR(x, held_x + 0.1, 1e-6);
-  EXPECT_LE(fastest_m_s, 1.5 + 1e-6);
+  XWatch watch{held_x};
+  step_watching_x(core, box, t + 0.5, watch);
+  EXPECT_NEAR(watch.x_m, held_x + 0.1, 1e-6);
+  EXPECT_LE(watch.fastest_m_s, 1.5 + 1e-6);
 }
 
 // Pause (the renderer's p key) freezes the virtual world and the tracked box where they
@@ -138,20 +150,15 @@ TEST(SimulatorCore, PauseFreezesTheWorldAndResumeGoesOnFromWhereItWas) {
   command.kind = SpawnRequest::Kind::kResume;
   ASSERT_TRUE(core.on_command(command));
   EXPECT_FALSE(core.paused());
-  double fastest_m_s = 0, x = core.world().bodies()[box].X_WB.translation().x();
+  XWatch watch{core.world().bodies()[box].X_WB.translation().x()};
   for (double t = 2.5 + 1.0 / 30; t <= 3.0 + 1e-9; t += 1.0 / 30) {
     const int64_t utime = kStart + std::llround(t * 1e6);
     core.on_tracking(frame(utime, ++seq, "box", {0.45, 0, 0.0755}));  // it stays where it was moved to
-    while (core.sim_time_s() + scene.time_step_s <= core.sim_time_of(utime) + 1e-12) {
-      core.advance_to(core.sim_time_s() + scene.time_step_s);
-      const double next_x = core.world().bodies()[box].X_WB.translation().x();
-      fastest_m_s = std::max(fastest_m_s, (next_x - x) / scene.time_step_s);
-      x = next_x;
-    }
+    step_watching_x(core, box, core.sim_time_of(utime), watch);
   }
   EXPECT_NEAR(core.sim_time_s(), paused_at_s + 0.5, 0.02) << "half a second since the resume, not 2.5";
-  EXPECT_LE(fastest_m_s, 1.5 + 1e-6);  // re-acquired at the driver's limit, not swept in one step
-  EXPECT_NEAR(x, 0.45, 1e-6);
+  EXPECT_LE(watch.fastest_m_s, 1.5 + 1e-6);  // re-acquired at the driver's limit, not swept in one step
+  EXPECT_NEAR(watch.x_m, 0.45, 1e-6);
   EXPECT_EQ(core.dropped_time_s(), 0.0) << "a pause is not time given up to keep up";
 }
 
