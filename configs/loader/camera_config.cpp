@@ -10,12 +10,6 @@
 
 namespace arphys::config {
 
-Eigen::Matrix3d CameraConfig::intrinsic_matrix() const {
-  Eigen::Matrix3d K;
-  K << fx_px, 0, cx_px, 0, fy_px, cy_px, 0, 0, 1;
-  return K;
-}
-
 bool CameraConfig::has_distortion() const {
   for (double d : distortion)
     if (d != 0.0) return true;

@@ -2,8 +2,6 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
 namespace arphys::config {
 
 // A calibrated pinhole camera, read from an OpenCV calibration file
@@ -17,7 +15,6 @@ struct CameraConfig {
   double fx_px = 0, fy_px = 0, cx_px = 0, cy_px = 0;
   std::vector<double> distortion;  // k1 k2 p1 p2 [k3 [k4 k5 k6 ...]]
 
-  Eigen::Matrix3d intrinsic_matrix() const;
   bool has_distortion() const;
 };
 

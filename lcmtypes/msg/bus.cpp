@@ -75,7 +75,6 @@ int Bus::handle_pending() {
   return handled;
 }
 
-int Bus::file_descriptor() { return lcm_->getFileno(); }
 
 void Bus::count_decode_error(const std::string& channel, uint32_t size) {
   ++counters_.decode_errors;

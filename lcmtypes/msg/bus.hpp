@@ -70,7 +70,6 @@ class Bus {
   // Handles every message already waiting, returns how many.
   int handle_pending();
 
-  int file_descriptor();
   const MessageCounters& counters() const { return counters_; }
   const std::string& url() const { return url_; }
 

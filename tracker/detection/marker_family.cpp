@@ -48,12 +48,6 @@ bool is_apriltag_family(const std::string& family) {
   return std::find(names.begin(), names.end(), family) != names.end();
 }
 
-std::vector<std::string> aruco_dictionary_names() {
-  std::vector<std::string> names;
-  for (const auto& [name, id] : aruco_dictionaries()) names.push_back(name);
-  return names;
-}
-
 int aruco_dictionary_id(const std::string& family) {
   std::string key = family;
   if (key.rfind("DICT_APRILTAG_", 0) == 0) key = "tag" + key.substr(14);

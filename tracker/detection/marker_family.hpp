@@ -15,9 +15,6 @@ namespace arphys::tracking {
 std::vector<std::string> apriltag_family_names();
 bool is_apriltag_family(const std::string& family);
 
-// ArUco dictionary names (DICT_*). The apriltag families that OpenCV also knows map to
-// their DICT_APRILTAG_* dictionary.
-std::vector<std::string> aruco_dictionary_names();
 // The OpenCV predefined dictionary id for a family name (apriltag or DICT_* name);
 // throws std::invalid_argument naming the family when OpenCV has none.
 int aruco_dictionary_id(const std::string& family);
