@@ -75,7 +75,6 @@ int Bus::handle_pending() {
   return handled;
 }
 
-
 void Bus::count_decode_error(const std::string& channel, uint32_t size) {
   ++counters_.decode_errors;
   counters_.last_error = "channel " + channel + ": " + std::to_string(size) + "-byte message did not decode";

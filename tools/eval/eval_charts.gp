@@ -5,9 +5,10 @@ set terminal pngcairo size 1200,480 font ',10'
 set datafile separator ','
 
 # 1. Tracking map: mean peak speed of the pushed bunny over the pusher's, per frame rate
-#    and noise, for each way tracking drives the box. Cells above 3x are failures.
+#    and noise, for each way tracking drives the box. Cells above 3x are failures (thrown), and
+#    so are cells where the bunny moved under 0.2 m (left behind: write_evaluation.py's LEFT_BEHIND_M).
 set output dir.'/eval_tracking_map.png'
-set multiplot layout 1,3 title "Bunny pushed by a tracked box: peak bunny speed / box speed (mean over seeds; > 3 = failure, marked x)"
+set multiplot layout 1,3 title "Bunny pushed by a tracked box: peak bunny speed / box speed (mean over seeds; failures: > 3 thrown, marked x; pushed < 0.2 m, left behind, marked b)"
 set xrange [-0.5:4.5]
 set yrange [-0.5:3.5]
 set xtics ('5' 0, '10' 1, '15' 2, '30' 3, '60' 4)
@@ -20,7 +21,7 @@ unset key
 do for [drive in "screw screw+filter teleport"] {
   set title drive
   plot sprintf("< awk -F, '$3 == \"%s\"' '%s/eval_tracking_map.dat'", drive, dir) using 1:2:4 with image, \
-       '' using 1:2:(sprintf('%.1f%s', $4, $4 > 3 ? ' x' : '')) with labels font ',9'
+       '' using 1:2:(sprintf('%.1f%s', $4, $4 > 3 ? ' x' : ($7 < 0.2 ? ' b' : ''))) with labels font ',9'
 }
 unset multiplot
 unset logscale cb

@@ -61,7 +61,8 @@ def aggregate_tracking_map(d):
             f.write(",".join(str(x) for x in [RATES.index(rate), NOISE.index(noise), drive,
                                               statistics.mean(num(r["peak_speed_ratio"]) for r in rs),
                                               statistics.mean(num(r["max_overlap_mm"]) for r in rs),
-                                              statistics.mean(num(r["max_rise_mm"]) for r in rs)]) + "\n")
+                                              statistics.mean(num(r["max_rise_mm"]) for r in rs),
+                                              statistics.mean(num(r["pushed_m"]) for r in rs)]) + "\n")
     return cells
 
 
