@@ -1,14 +1,14 @@
 # Charts of the evaluation's own studies. Called by tools/eval/write_evaluation.py with
-#   gnuplot -e "dir='docs/results/eval'" tools/eval/eval_charts.gp
+#   gnuplot -e "dir='docs/results/eval'; thrown_ratio=3; left_behind_m=0.2" tools/eval/eval_charts.gp
 # after it wrote the aggregated .dat files next to the CSVs.
 set terminal pngcairo size 1200,480 font ',10'
 set datafile separator ','
 
 # 1. Tracking map: mean peak speed of the pushed bunny over the pusher's, per frame rate
-#    and noise, for each way tracking drives the box. Cells above 3x are failures (thrown), and
-#    so are cells where the bunny moved under 0.2 m (left behind: write_evaluation.py's LEFT_BEHIND_M).
+#    and noise, for each way tracking drives the box. Cells above thrown_ratio are failures, and
+#    so are cells where the bunny moved under left_behind_m (left behind: the box passed through it).
 set output dir.'/eval_tracking_map.png'
-set multiplot layout 1,3 title "Bunny pushed by a tracked box: peak bunny speed / box speed (mean over seeds; failures: > 3 thrown, marked x; pushed < 0.2 m, left behind, marked b)"
+set multiplot layout 1,3 title sprintf("Bunny pushed by a tracked box: peak bunny speed / box speed (mean over seeds; failures: > %g thrown, marked x; pushed < %g m, left behind, marked b)", thrown_ratio, left_behind_m)
 set xrange [-0.5:4.5]
 set yrange [-0.5:3.5]
 set xtics ('5' 0, '10' 1, '15' 2, '30' 3, '60' 4)
@@ -21,7 +21,7 @@ unset key
 do for [drive in "screw screw+filter teleport"] {
   set title drive
   plot sprintf("< awk -F, '$3 == \"%s\"' '%s/eval_tracking_map.dat'", drive, dir) using 1:2:4 with image, \
-       '' using 1:2:(sprintf('%.1f%s', $4, $4 > 3 ? ' x' : ($7 < 0.2 ? ' b' : ''))) with labels font ',9'
+       '' using 1:2:(sprintf('%.1f%s', $4, $4 > thrown_ratio ? ' x' : ($7 < left_behind_m ? ' b' : ''))) with labels font ',9'
 }
 unset multiplot
 unset logscale cb
