@@ -5,8 +5,9 @@ set terminal pngcairo size 1200,480 font ',10'
 set datafile separator ','
 
 # 1. Tracking map: mean peak speed of the pushed bunny over the pusher's, per frame rate
-#    and noise, for each way tracking drives the box. Cells above thrown_ratio are failures, and
-#    so are cells where the bunny moved under left_behind_m (left behind: the box passed through it).
+#    and noise, for each way tracking drives the box. Column 7 is the cell's failure mark as
+#    write_evaluation.py judged it: x thrown (above thrown_ratio), b left behind (pushed under
+#    left_behind_m: the box passed through it) or ok.
 set output dir.'/eval_tracking_map.png'
 set multiplot layout 1,3 title sprintf("Bunny pushed by a tracked box: peak bunny speed / box speed (mean over seeds; failures: > %g thrown, marked x; pushed < %g m, left behind, marked b)", thrown_ratio, left_behind_m)
 set xrange [-0.5:4.5]
@@ -21,7 +22,7 @@ unset key
 do for [drive in "screw screw+filter teleport"] {
   set title drive
   plot sprintf("< awk -F, '$3 == \"%s\"' '%s/eval_tracking_map.dat'", drive, dir) using 1:2:4 with image, \
-       '' using 1:2:(sprintf('%.1f%s', $4, $4 > thrown_ratio ? ' x' : ($7 < left_behind_m ? ' b' : ''))) with labels font ',9'
+       '' using 1:2:(sprintf('%.1f%s', $4, strcol(7) eq 'ok' ? '' : ' '.strcol(7))) with labels font ',9'
 }
 unset multiplot
 unset logscale cb

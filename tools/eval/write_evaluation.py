@@ -54,6 +54,17 @@ THROWN_RATIO = 3
 LEFT_BEHIND_M = 0.2
 
 
+def cell_mean(rs, column):
+    return statistics.mean(num(r[column]) for r in rs)
+
+
+def failure_mark(rs):
+    """How a stability cell (its runs over seeds) fails: "x" thrown, "b" left behind, "ok" not."""
+    if cell_mean(rs, "peak_speed_ratio") > THROWN_RATIO:
+        return "x"
+    return "b" if cell_mean(rs, "pushed_m") < LEFT_BEHIND_M else "ok"
+
+
 def aggregate_tracking_map(d):
     cells = defaultdict(list)
     for r in rows(os.path.join(d, "eval_tracking_map.csv")):
@@ -62,10 +73,8 @@ def aggregate_tracking_map(d):
         # gnuplot's "with image" reads a raster: x fastest, then y.
         for (rate, noise, drive), rs in sorted(cells.items(), key=lambda kv: (kv[0][2], NOISE.index(kv[0][1]), RATES.index(kv[0][0]))):
             f.write(",".join(str(x) for x in [RATES.index(rate), NOISE.index(noise), drive,
-                                              statistics.mean(num(r["peak_speed_ratio"]) for r in rs),
-                                              statistics.mean(num(r["max_overlap_mm"]) for r in rs),
-                                              statistics.mean(num(r["max_rise_mm"]) for r in rs),
-                                              statistics.mean(num(r["pushed_m"]) for r in rs)]) + "\n")
+                                              cell_mean(rs, "peak_speed_ratio"), cell_mean(rs, "max_overlap_mm"),
+                                              cell_mean(rs, "max_rise_mm"), failure_mark(rs)]) + "\n")
     return cells
 
 
@@ -99,7 +108,7 @@ def main():
 
     cells = aggregate_tracking_map(d)
     lf_order, lf = aggregate_loss_flip(d)
-    settings = f"dir='{d}'; thrown_ratio={THROWN_RATIO}; left_behind_m={LEFT_BEHIND_M}"
+    settings = f"dir='{d}'; thrown_ratio={THROWN_RATIO}; left_behind_m={LEFT_BEHIND_M}"  # (for the chart's title)
     subprocess.run(["gnuplot", "-e", settings, os.path.join(root, "eval", "eval_charts.gp")], check=True)
 
     md = []
@@ -255,10 +264,9 @@ def main():
     fails = defaultdict(int)
     left_behind = defaultdict(int)
     for (rate, noise, drive), rs in cells.items():
-        thrown = statistics.mean(num(r["peak_speed_ratio"]) for r in rs) > THROWN_RATIO
-        behind = statistics.mean(num(r["pushed_m"]) for r in rs) < LEFT_BEHIND_M
-        fails[drive] += thrown or behind
-        left_behind[drive] += behind and not thrown
+        mark = failure_mark(rs)
+        fails[drive] += mark != "ok"
+        left_behind[drive] += mark == "b"
     w("Failed cells (of 20): " + ", ".join(f"{k} {fails[k]}" + (f" ({left_behind[k]} left behind)" if left_behind[k] else "")
                                            for k in ("screw", "screw+filter", "teleport")) + ".\n")
     if fails["screw"] or fails["screw+filter"]:
