@@ -1,6 +1,7 @@
 // Pose estimation against rendered truth: single markers (both IPPE solutions),
 // multi-marker objects by joint PnP, the camera in the world from the table's markers,
-// and the one-euro filter's jitter and lag.
+// the constant-velocity filter dropping an outlying fit, and the one-euro filter's
+// jitter and lag.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -197,6 +198,44 @@ TEST(ObjectPose, ContinuousTrackingResolvesSingleMarkerAmbiguity) {
   EXPECT_GE(flips_alone, 2) << "the scene no longer exercises the ambiguity";
   EXPECT_LE(flips_tracked, flips_alone);
   EXPECT_LE(flips_tracked, 2);
+}
+
+// With the constant-velocity filter, one frame whose fit lands 8 cm off the board's
+// path (a misfit, a single marker's flipped solution) is dropped: the object is reported
+// PREDICTED there, on its path, and counted; the next frame is TRACKED again. Without the
+// filter the jump goes out as a measurement.
+TEST(ObjectPose, FilterDropsALoneOutlyingFitAsPredicted) {
+  const CameraModel camera = test_camera();
+  TrackerModel model;
+  model.objects.push_back(board("board", 20));
+  TrackerOptions options;
+  options.filter.kind = PoseFilterKind::kConstantVelocity;
+  ObjectTracker filtered(model, camera, options), raw(model, camera);
+  const cv::Mat background = clutter_background(640, 480, 5);
+  AprilTagDetector detector;
+  detector.set_param("decimate", "1");
+  int rejected = 0;
+  for (int i = 0; i < 12; ++i) {
+    // 0.3 m/s across the view at 0.6 m; frame 8 sees the board 8 cm further on.
+    Pose X_CO = marker_pose_at(camera, 240, 240, 0.6, 0.3, 0.2, 0.1);
+    X_CO.translation().x() += 0.01 * i + (i == 8 ? 0.08 : 0.0);
+    const auto found = detect_refined(detector, render_markers(camera, place(model.objects[0], X_CO), background, {}));
+    const int64_t utime = 1000000 + i * 33333;
+    const TrackingResult r = filtered.update(found, utime);
+    const TrackingResult u = raw.update(found, utime);
+    rejected += r.rejected_poses;
+    if (i == 8) {
+      EXPECT_EQ(r.objects[0].status, TrackStatus::kPredicted);
+      EXPECT_EQ(r.rejected_poses, 1);
+      EXPECT_LT(translation_distance_m(r.objects[0].X_CO, X_CO), 0.08 + 2e-3);
+      EXPECT_GT(translation_distance_m(r.objects[0].X_CO, X_CO), 0.08 - 2e-3);  // on the path, not at the jump
+      EXPECT_LT(translation_distance_m(u.objects[0].X_CO, X_CO), 2e-3);
+    } else {
+      EXPECT_EQ(r.objects[0].status, TrackStatus::kTracked) << "frame " << i;
+      if (i > 8) EXPECT_LT(translation_distance_m(r.objects[0].X_CO, X_CO), 3e-3) << "frame " << i;
+    }
+  }
+  EXPECT_EQ(rejected, 1);
 }
 
 // The table's four corner markers give the camera in the world; a box seen in the same

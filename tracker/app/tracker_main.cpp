@@ -256,6 +256,7 @@ int main(int argc, char** argv) {
           {"wrong_size_frames", static_cast<double>(c.wrong_size)},
           {"wrong_format_frames", static_cast<double>(c.wrong_format)},
           {"unknown_markers", static_cast<double>(c.unknown_markers)},
+          {"rejected_poses", static_cast<double>(c.rejected_poses)},
           {"detector_switches", static_cast<double>(c.detector_switches)},
           {"rejected_controls", static_cast<double>(c.rejected_controls)}};
       for (const auto& [n, v] : figures) msg::add_figure(status, n, v);
@@ -267,10 +268,10 @@ int main(int argc, char** argv) {
   }
   const auto& c = pipeline->counters();
   std::fprintf(stderr, "tracker: %lld frames, %lld skipped (size %lld, format %lld, unreadable %lld), %lld unknown "
-               "markers ignored, %lld detector switches, %lld controls refused\n",
+               "markers ignored, %lld outlier poses dropped by the filter, %lld detector switches, %lld controls refused\n",
                static_cast<long long>(c.frames), static_cast<long long>(c.wrong_size + c.wrong_format + frames->skipped_frames()),
                static_cast<long long>(c.wrong_size), static_cast<long long>(c.wrong_format),
                static_cast<long long>(frames->skipped_frames()), static_cast<long long>(c.unknown_markers),
-               static_cast<long long>(c.detector_switches), static_cast<long long>(c.rejected_controls));
+               static_cast<long long>(c.rejected_poses), static_cast<long long>(c.detector_switches), static_cast<long long>(c.rejected_controls));
   return 0;
 }

@@ -66,6 +66,7 @@ std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool ind
   report.detect_end_utime = wall_clock_utime();
   ++counters_.frames;
   counters_.unknown_markers += report.result.unknown_markers;
+  counters_.rejected_poses += report.result.rejected_poses;
   return report;
 }
 

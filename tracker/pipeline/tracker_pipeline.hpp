@@ -27,6 +27,7 @@ struct PipelineCounters {
   int64_t wrong_size = 0;         // skipped: size differs from the camera calibration
   int64_t wrong_format = 0;       // skipped: not 8-bit grey/BGR/BGRA
   int64_t unknown_markers = 0;    // detections of markers no object declares (ignored)
+  int64_t rejected_poses = 0;     // object or camera fits the pose filter dropped as outliers
   int64_t unrefined_corners = 0;  // detections whose edges could not refine the corners (kept as detected)
   int64_t detector_switches = 0;  // implementation changes at run time
   int64_t rejected_controls = 0;  // switch or parameter requests refused

@@ -37,6 +37,7 @@ ConstantVelocityPoseFilter::ConstantVelocityPoseFilter(const ConstantVelocityPar
   require_positive(params.gate_m, "gate_m");
   require_positive(params.gate_rad, "gate_rad");
   require_positive(params.max_gap_s, "max_gap_s");
+  require_positive(params.max_coast_s, "max_coast_s");
 }
 
 void ConstantVelocityPoseFilter::AxisCovariance::predict(double dt, double psd) {
@@ -61,6 +62,7 @@ Eigen::Vector2d ConstantVelocityPoseFilter::AxisCovariance::update(double r) {
 
 void ConstantVelocityPoseFilter::restart(const geometry::Pose& X, double t_s) {
   initialised_ = true;
+  rejected_last_ = false;
   t_last_s_ = t_s;
   p_m_ = X.translation();
   R_ = X.linear();
@@ -72,6 +74,8 @@ void ConstantVelocityPoseFilter::restart(const geometry::Pose& X, double t_s) {
 
 geometry::Pose ConstantVelocityPoseFilter::filter(const geometry::Pose& X_measured, double t_s) {
   const double dt = t_s - t_last_s_;
+  const bool after_rejection = rejected_last_;
+  rejected_last_ = false;
   if (!initialised_ || !(dt > 0) || dt > params_.max_gap_s) {
     restart(X_measured, t_s);
     return X_measured;
@@ -82,8 +86,17 @@ geometry::Pose ConstantVelocityPoseFilter::filter(const geometry::Pose& X_measur
   const Eigen::Vector3d dp = X_measured.translation() - p_predicted;
   const Eigen::Vector3d dr = rotation_vector(X_measured.linear() * R_predicted.transpose());
   if (dp.norm() > params_.gate_m || dr.norm() > params_.gate_rad) {
-    restart(X_measured, t_s);
-    return X_measured;
+    if (after_rejection || dt > params_.max_coast_s) {
+      restart(X_measured, t_s);
+      return X_measured;
+    }
+    // The state stays at the last accepted measurement: the next one is predicted from there.
+    rejected_last_ = true;
+    ++rejected_count_;
+    geometry::Pose X = geometry::Pose::Identity();
+    X.translation() = p_predicted;
+    X.linear() = R_predicted;
+    return X;
   }
   translation_.predict(dt, params_.acceleration_psd_m2_s3);
   rotation_.predict(dt, params_.angular_acceleration_psd_rad2_s3);

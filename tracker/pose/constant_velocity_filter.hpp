@@ -8,9 +8,14 @@
 //
 // Translation: per axis, state (position, velocity). Rotation: the orientation and the
 // world-frame angular velocity, updated through the rotation vector of the residual
-// (an error-state filter). A measurement further from the prediction than the gate, or
-// after a gap longer than max_gap_s, restarts the filter at the measurement (a
-// re-acquired track or a flipped single-marker pose is a new start, not a velocity).
+// (an error-state filter).
+// A measurement further from the prediction than the gate is one of two things. Alone,
+// right after an accepted one (within max_coast_s), it is taken for an outlier: a
+// single-marker pose flipped to its other solution for a frame, a misfit. It is dropped
+// and counted, and the output is the prediction, so the flip never reaches the physics.
+// A second in a row, or one after a longer gap, restarts the filter at the measurement:
+// the object did jump (a re-acquired track), and that is a new start, not a velocity.
+// A gap longer than max_gap_s restarts it too.
 #include "simulator/geometry/pose.hpp"
 
 namespace arphys::tracking {
@@ -25,6 +30,9 @@ struct ConstantVelocityParams {
   double gate_m = 0.05;
   double gate_rad = 0.35;
   double max_gap_s = 0.5;
+  // A gated measurement up to this long after the last accepted one may be dropped as an
+  // outlier; after longer, the prediction is too stale to overrule a measurement.
+  double max_coast_s = 0.1;
 };
 
 class ConstantVelocityPoseFilter {
@@ -33,9 +41,15 @@ class ConstantVelocityPoseFilter {
   // Throws std::invalid_argument naming the parameter when one is not positive.
   explicit ConstantVelocityPoseFilter(const ConstantVelocityParams& params);
   // Filters the pose measured at t_s (seconds). The first call, a call whose time does
-  // not increase, and a gated or late measurement pass it through and restart.
+  // not increase, and a late or repeatedly gated measurement pass it through and
+  // restart; a lone gated one is dropped and the prediction at t_s returned.
   geometry::Pose filter(const geometry::Pose& X_measured, double t_s);
   void reset() { initialised_ = false; }
+
+  // Whether the last call dropped its measurement as an outlier (its output is a
+  // prediction, not a measurement), and how many calls have.
+  bool rejected_last() const { return rejected_last_; }
+  long rejected_count() const { return rejected_count_; }
 
   // The filter's velocity estimates (zero before two measurements).
   const Eigen::Vector3d& velocity_m_s() const { return v_m_s_; }
@@ -54,6 +68,8 @@ class ConstantVelocityPoseFilter {
 
   ConstantVelocityParams params_;
   bool initialised_ = false;
+  bool rejected_last_ = false;
+  long rejected_count_ = 0;
   double t_last_s_ = 0;
   Eigen::Vector3d p_m_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d v_m_s_ = Eigen::Vector3d::Zero();

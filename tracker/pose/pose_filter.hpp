@@ -57,6 +57,9 @@ class PoseFilter {
   explicit PoseFilter(const PoseFilterSpec& spec)
       : kind_(spec.kind), one_euro_(spec.one_euro), constant_velocity_(spec.constant_velocity) {}
   Pose filter(const Pose& X_measured, double t_s);
+  // The last call dropped its measurement as an outlier and returned a prediction (the
+  // constant-velocity filter's gate; the others never drop one).
+  bool rejected_last() const { return kind_ == PoseFilterKind::kConstantVelocity && constant_velocity_.rejected_last(); }
   void reset() {
     one_euro_.reset();
     constant_velocity_.reset();

@@ -248,7 +248,11 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, capture_utime);
     if (fit.ok) {
       const Pose X_CW = world_track_.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
-      record(world_track_, X_CW, capture_utime);
+      if (world_track_.filter.rejected_last()) {
+        ++result.rejected_poses;  // the camera keeps its last world pose
+      } else {
+        record(world_track_, X_CW, capture_utime);
+      }
     }
   }
   // A fixed camera keeps its last world pose while the world markers are hidden.
@@ -262,11 +266,17 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     const auto seen = seen_by_object.find(object.id);
     Fit fit;
     if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, track, capture_utime);
-    if (fit.ok) {
-      const Pose X_CO = track.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
-      record(track, X_CO, capture_utime);
+    const Pose X_filtered = fit.ok ? track.filter.filter(fit.pose.X_CO, capture_utime * 1e-6) : Pose::Identity();
+    if (fit.ok && track.filter.rejected_last()) {
+      // A fit far from where the object is going (a flipped single-marker pose): the
+      // filter's prediction stands in, and the track is not seen in this frame.
+      ++result.rejected_poses;
+      obs.status = TrackStatus::kPredicted;
+      obs.X_CO = X_filtered;
+    } else if (fit.ok) {
+      record(track, X_filtered, capture_utime);
       obs.status = TrackStatus::kTracked;
-      obs.X_CO = X_CO;
+      obs.X_CO = X_filtered;
       obs.marker_ids = fit.marker_ids;
       obs.rms_px = fit.pose.rms_px;
       obs.position_sigma_m = fit.pose.position_sigma_m;

@@ -74,6 +74,7 @@ struct TrackingResult {
   bool camera_world_valid = false;
   Pose X_WC = Pose::Identity();
   int unknown_markers = 0;  // markers of this frame no object declares
+  int rejected_poses = 0;   // fits of this frame the pose filter dropped as outliers (PREDICTED instead)
 };
 
 struct TrackerOptions {
