@@ -15,20 +15,47 @@ TrackingPolicy tracking_policy_from(const std::string& name) {
   throw std::invalid_argument("tracking policy '" + name + "': expected 'delay' or 'extrapolate'");
 }
 
+namespace {
+
+double distance_m(const geometry::Pose& from, const geometry::Pose& to) {
+  return (to.translation() - from.translation()).norm();
+}
+double angle_rad(const geometry::Pose& from, const geometry::Pose& to) {
+  return Eigen::AngleAxisd(from.linear().transpose() * to.linear()).angle();
+}
+
+// A catch-up never crawls: an object seen still across a gap, yet a few mm off, is
+// reached at these speeds (a gentle push, a tenth of the hand's limits).
+constexpr double kMinCatchUpSpeed_m_s = 0.1;
+constexpr double kMinCatchUpRate_rad_s = 0.5;
+
+}  // namespace
+
 TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s, double max_speed_m_s,
-                               double max_rate_rad_s)
+                               double max_rate_rad_s, double catch_up_factor)
     : policy_(policy), max_speed_m_s_(max_speed_m_s), max_rate_rad_s_(max_rate_rad_s),
+      catch_up_factor_(catch_up_factor), speed_limit_m_s_(max_speed_m_s), rate_limit_rad_s_(max_rate_rad_s),
       frame_interval_s_(default_frame_interval_s) {
   if (!(max_speed_m_s > 0) || !(max_rate_rad_s > 0)) {
     throw std::invalid_argument("TrackingDriver: speed limits must be positive, got " + std::to_string(max_speed_m_s) +
                                 " m/s and " + std::to_string(max_rate_rad_s) + " rad/s");
   }
+  if (!(catch_up_factor >= 1)) {
+    throw std::invalid_argument("TrackingDriver: catch_up_factor must be at least 1 (or the body never catches up), got " +
+                                std::to_string(catch_up_factor));
+  }
 }
 
 double TrackingDriver::earliest_arrival(double t_s, const geometry::Pose& from, const geometry::Pose& to) const {
-  const double distance_m = (to.translation() - from.translation()).norm();
-  const double angle_rad = Eigen::AngleAxisd(from.linear().transpose() * to.linear()).angle();
-  return t_s + std::max(distance_m / max_speed_m_s_, angle_rad / max_rate_rad_s_);
+  return t_s + std::max(distance_m(from, to) / speed_limit_m_s_, angle_rad(from, to) / rate_limit_rad_s_);
+}
+
+void TrackingDriver::limit_catch_up(const geometry::Pose& from, const geometry::Pose& to, double gap_s) {
+  speed_limit_m_s_ = max_speed_m_s_;
+  rate_limit_rad_s_ = max_rate_rad_s_;
+  if (!(gap_s > 0)) return;  // how fast the object went is unknown: the hand's limits
+  speed_limit_m_s_ = std::clamp(catch_up_factor_ * distance_m(from, to) / gap_s, kMinCatchUpSpeed_m_s, max_speed_m_s_);
+  rate_limit_rad_s_ = std::clamp(catch_up_factor_ * angle_rad(from, to) / gap_s, kMinCatchUpRate_rad_s, max_rate_rad_s_);
 }
 
 void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, double now_s) {
@@ -45,15 +72,30 @@ void TrackingDriver::on_pose(double capture_t_s, const geometry::Pose& X_WO, dou
     const double t = std::max(now_s, after + 1e-9);
     if (trajectory_.empty()) {
       trajectory_.add(t, X_WO);
+      lagging_ = false;
     } else {
       // Move there over one frame rather than teleport (longer if that is too fast).
       const geometry::Pose from = trajectory_.poses().back().X_WB;
-      trajectory_.add(std::max(t + frame_interval_s_, earliest_arrival(t, from, X_WO)), X_WO);
+      limit_catch_up(from, X_WO, captured_ ? capture_t_s - last_capture_s_ : 0.0);
+      const double arrival = std::max(t + frame_interval_s_, earliest_arrival(t, from, X_WO));
+      trajectory_.add(arrival, X_WO);
+      lagging_ = arrival > capture_t_s + frame_interval_s_ + 1e-9;
     }
   } else if (policy_ == TrackingPolicy::kDelay) {
-    const double start = std::max(after, now_s);
+    // Behind (a catch-up, a flip turned at the limit): head for this pose from where the
+    // body is, not via the one it has not reached yet.
+    if (lagging_ && after > now_s) trajectory_.hold_from(now_s);
+    const double last = trajectory_.poses().back().t_s;
+    const double start = std::max(last, now_s);
     const geometry::Pose from = trajectory_.pose_at(start);
-    trajectory_.add(std::max({capture_t_s + frame_interval_s_, after + 1e-9, earliest_arrival(start, from, X_WO)}), X_WO);
+    const double nominal = capture_t_s + frame_interval_s_;
+    const double arrival = std::max({nominal, last + 1e-9, earliest_arrival(start, from, X_WO)});
+    trajectory_.add(arrival, X_WO);
+    lagging_ = arrival > nominal + 1e-9;
+    if (!lagging_) {  // caught up
+      speed_limit_m_s_ = max_speed_m_s_;
+      rate_limit_rad_s_ = max_rate_rad_s_;
+    }
   } else {
     // Blend from the current (extrapolated) pose to the measurement over half a frame,
     // then keep going with the measured twist for one more frame.
