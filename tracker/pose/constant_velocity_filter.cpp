@@ -1,5 +1,6 @@
 #include "tracker/pose/constant_velocity_filter.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -38,6 +39,9 @@ ConstantVelocityPoseFilter::ConstantVelocityPoseFilter(const ConstantVelocityPar
   require_positive(params.gate_rad, "gate_rad");
   require_positive(params.max_gap_s, "max_gap_s");
   require_positive(params.max_coast_s, "max_coast_s");
+  if (!(params.noise_window_frames >= 1) || !std::isfinite(params.noise_window_frames))
+    throw std::invalid_argument("ConstantVelocityParams.noise_window_frames must be at least 1, got " +
+                                std::to_string(params.noise_window_frames));
 }
 
 void ConstantVelocityPoseFilter::AxisCovariance::predict(double dt, double psd) {
@@ -60,9 +64,21 @@ Eigen::Vector2d ConstantVelocityPoseFilter::AxisCovariance::update(double r) {
   return gain;
 }
 
+double ConstantVelocityPoseFilter::NoiseEstimate::observe(const Eigen::Vector3d& velocity_change, double spread_per_s2,
+                                                          double floor_variance, double alpha) {
+  const double in_force = std::max(floor_variance, variance);
+  // A sample is clipped at 3 sigma: a sudden stop is one large velocity change, the
+  // motion's and not the noise's, and may not raise the estimate much.
+  const double per_axis = std::min(velocity_change.squaredNorm() / 3 / spread_per_s2, 9 * in_force);
+  variance += alpha * (per_axis - variance);
+  return std::max(floor_variance, variance);
+}
+
 void ConstantVelocityPoseFilter::restart(const geometry::Pose& X, double t_s) {
   initialised_ = true;
   rejected_last_ = false;
+  history_ = {{{t_s, X}}};
+  history_size_ = 1;
   t_last_s_ = t_s;
   p_m_ = X.translation();
   R_ = X.linear();
@@ -100,9 +116,28 @@ geometry::Pose ConstantVelocityPoseFilter::filter(const geometry::Pose& X_measur
   }
   translation_.predict(dt, params_.acceleration_psd_m2_s3);
   rotation_.predict(dt, params_.angular_acceleration_psd_rad2_s3);
-  // Update.
-  const Eigen::Vector2d kt = translation_.update(params_.position_noise_m * params_.position_noise_m);
-  const Eigen::Vector2d kr = rotation_.update(params_.rotation_noise_rad * params_.rotation_noise_rad);
+  // Update, with the measurement variance the last three measurements show.
+  double position_variance = params_.position_noise_m * params_.position_noise_m;
+  double rotation_variance = params_.rotation_noise_rad * params_.rotation_noise_rad;
+  if (history_size_ == 2) {
+    // The change of the velocity between the last two measurement intervals: zero for a
+    // steady motion, so its scatter is the measurements' (measurement variance times
+    // spread, per axis).
+    const auto& [t0, X0] = history_[0];
+    const auto& [t1, X1] = history_[1];
+    const double dt0 = t1 - t0, dt1 = t_s - t1;
+    const double spread = 1 / (dt0 * dt0) + std::pow(1 / dt0 + 1 / dt1, 2) + 1 / (dt1 * dt1);
+    const Eigen::Vector3d dv = (X_measured.translation() - X1.translation()) / dt1 - (X1.translation() - X0.translation()) / dt0;
+    const Eigen::Vector3d dw = rotation_vector(X_measured.linear() * X1.linear().transpose()) / dt1 -
+                               rotation_vector(X1.linear() * X0.linear().transpose()) / dt0;
+    const double alpha = 1.0 / params_.noise_window_frames;
+    position_variance = position_variance_.observe(dv, spread, position_variance, alpha);
+    rotation_variance = rotation_variance_.observe(dw, spread, rotation_variance, alpha);
+    history_[0] = history_[1];
+  }
+  history_[history_size_ == 2 ? 1 : history_size_++] = {t_s, X_measured};
+  const Eigen::Vector2d kt = translation_.update(position_variance);
+  const Eigen::Vector2d kr = rotation_.update(rotation_variance);
   p_m_ = p_predicted + kt[0] * dp;
   v_m_s_ += kt[1] * dp;
   // Renormalised, so that many products of rotations stay a rotation.
