@@ -193,6 +193,7 @@ int main(int argc, char** argv) {
   std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml";
   std::string url, clock = "messages", policy;
   double duration_s = 0;
+  sim::CoreOptions options;
   app.add_option("scene", scene_path, "scene YAML file")->capture_default_str();
   app.add_option("--lcm-url", url, "LCM URL (default: the scene's lcm.url)");
   app.add_option("--clock", clock, "messages: step to the newest tracking capture time (replay-deterministic); "
@@ -201,6 +202,12 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--tracking-policy", policy, "override the scene's physics.tracking_policy")
       ->check(CLI::IsMember({"delay", "extrapolate"}));
+  app.add_option("--catch-up-factor", options.driver_limits.catch_up_factor,
+                 "a track re-acquired further on is caught up with at this many times the speed the object made "
+                 "over the gap (at most 1.5 m/s): higher draws the real body where it is sooner and pushes what it "
+                 "meets harder")
+      ->check(CLI::Range(1.0, 100.0))
+      ->capture_default_str();
   app.add_option("--duration", duration_s, "exit after this many wall-clock seconds (0: run until SIGINT)");
   double max_lag_s = 0;
   app.add_option("--max-lag-s", max_lag_s,
@@ -224,7 +231,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "arphys-simulator: %s\n", e.what());
     return 2;
   }
-  sim::CoreOptions options;
   options.policy = sim::tracking_policy_from(policy.empty() ? scene.tracking_policy : policy);
   std::unique_ptr<sim::SimulatorCore> core;
   std::unique_ptr<msg::Bus> bus;

@@ -62,6 +62,7 @@ struct RecoveryReport {
 struct CoreOptions {
   TrackingPolicy policy = TrackingPolicy::kDelay;
   double stale_timeout_s = 0.5;      // no pose for this long: the object is held still
+  DriverLimits driver_limits;       // how fast a tracked body may move where its tracking jumps
   double max_spawn_speed_m_s = 20;   // faster spawns are refused
   double max_spawn_distance_m = 10;  // spawns further from the world origin are refused
   double world_radius_m = 10;        // virtual bodies further than this (fallen off) are removed

@@ -31,18 +31,17 @@ constexpr double kMinCatchUpRate_rad_s = 0.5;
 
 }  // namespace
 
-TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s, double max_speed_m_s,
-                               double max_rate_rad_s, double catch_up_factor)
-    : policy_(policy), max_speed_m_s_(max_speed_m_s), max_rate_rad_s_(max_rate_rad_s),
-      catch_up_factor_(catch_up_factor), speed_limit_m_s_(max_speed_m_s), rate_limit_rad_s_(max_rate_rad_s),
-      frame_interval_s_(default_frame_interval_s) {
-  if (!(max_speed_m_s > 0) || !(max_rate_rad_s > 0)) {
-    throw std::invalid_argument("TrackingDriver: speed limits must be positive, got " + std::to_string(max_speed_m_s) +
-                                " m/s and " + std::to_string(max_rate_rad_s) + " rad/s");
+TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s, const DriverLimits& limits)
+    : policy_(policy), max_speed_m_s_(limits.max_speed_m_s), max_rate_rad_s_(limits.max_rate_rad_s),
+      catch_up_factor_(limits.catch_up_factor), speed_limit_m_s_(limits.max_speed_m_s),
+      rate_limit_rad_s_(limits.max_rate_rad_s), frame_interval_s_(default_frame_interval_s) {
+  if (!(max_speed_m_s_ > 0) || !(max_rate_rad_s_ > 0)) {
+    throw std::invalid_argument("TrackingDriver: speed limits must be positive, got max_speed_m_s " +
+                                std::to_string(max_speed_m_s_) + " and max_rate_rad_s " + std::to_string(max_rate_rad_s_));
   }
-  if (!(catch_up_factor >= 1)) {
+  if (!(catch_up_factor_ >= 1)) {
     throw std::invalid_argument("TrackingDriver: catch_up_factor must be at least 1 (or the body never catches up), got " +
-                                std::to_string(catch_up_factor));
+                                std::to_string(catch_up_factor_));
   }
 }
 

@@ -29,10 +29,18 @@ enum class TrackingPolicy { kDelay, kExtrapolate };
 const char* to_string(TrackingPolicy policy);
 TrackingPolicy tracking_policy_from(const std::string& name);  // "delay" | "extrapolate"
 
+// How fast the driven body may go where the tracking would jump (see above).
+struct DriverLimits {
+  double max_speed_m_s = 1.5;
+  double max_rate_rad_s = 2 * 3.141592653589793;
+  double catch_up_factor = 2.0;  // at least 1
+};
+
 class TrackingDriver {
  public:
-  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30, double max_speed_m_s = 1.5,
-                 double max_rate_rad_s = 2 * 3.141592653589793, double catch_up_factor = 2.0);
+  // Throws std::invalid_argument naming the limit that is not positive (or, for the
+  // catch-up factor, below 1).
+  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30, const DriverLimits& limits = {});
 
   // A measured pose captured at simulation time capture_t_s (must increase; the
   // caller checks). now_s: the current simulation time.

@@ -199,6 +199,9 @@ TEST(SimulatorProcess, BadSceneRefusedAndForeignOrCorruptStateFilesStartAfresh) 
   EXPECT_NE(run.out.find("physics.time_step_s: got 0.5, expected a time step of at most 0.1 s"), std::string::npos) << run.out;
 
   const std::string scene = std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml";
+  run = arphys::testing::run_command(simulator + scene + " --catch-up-factor 0.5 --duration 0.5 --lcm-url '" + url + "'");
+  EXPECT_NE(run.exit_code, 0) << run.out;  // a body that never catches up
+  EXPECT_NE(run.out.find("--catch-up-factor"), std::string::npos) << run.out;
   const auto start_with_state = [&](const std::string& state_file) {
     return arphys::testing::run_command(simulator + scene + " --clock wall --duration 0.5 --lcm-url '" + url +
                                         "' --state-file " + state_file);

@@ -183,6 +183,11 @@ int main(int argc, char** argv) {
   app.add_option("--lcm-url", url, "LCM URL for every process (default: the scene's)");
   app.add_option("--tracking-policy", tracking_policy, "override the scene's tracking policy in the simulator")
       ->check(CLI::IsMember({"delay", "extrapolate"}));
+  double catch_up_factor = 0;
+  app.add_option("--catch-up-factor", catch_up_factor,
+                 "the simulator's --catch-up-factor: a re-acquired track is caught up with at this many times the "
+                 "object's own speed over the gap (default: the simulator's, 2)")
+      ->check(CLI::Range(1.0, 100.0));
   app.add_option("--renderer-wait-ms", renderer_wait_ms,
                  "the renderer holds each frame up to this long for the world state computed from it (renderer "
                  "--wait-ms): the overlay shows the frame's own world, later")
@@ -295,6 +300,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> args{b + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url, "--duration", seconds,
                                   "--state-file", state_file};
     if (!tracking_policy.empty()) args.insert(args.end(), {"--tracking-policy", tracking_policy});
+    if (catch_up_factor > 0) args.insert(args.end(), {"--catch-up-factor", std::to_string(catch_up_factor)});
     if (sim_max_lag_s > 0) args.insert(args.end(), {"--max-lag-s", std::to_string(sim_max_lag_s)});
     start_child("simulator", args);
   }

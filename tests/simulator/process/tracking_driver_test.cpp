@@ -85,11 +85,20 @@ TEST(TrackingDriver, FlippedPoseTurnsTheBodyNoFasterThanTheLimit) {
 }
 
 TEST(TrackingDriver, CatchUpFactorBelowOneIsRefused) {
-  EXPECT_THROW(TrackingDriver(TrackingPolicy::kDelay, 1.0 / 30, 1.5, 6.0, 0.5), std::invalid_argument);
+  DriverLimits limits;
+  limits.catch_up_factor = 0.5;
+  EXPECT_THROW(TrackingDriver(TrackingPolicy::kDelay, 1.0 / 30, limits), std::invalid_argument);
 }
 
 TEST(TrackingDriver, NonPositiveLimitsAreRefused) {
-  EXPECT_THROW(TrackingDriver(TrackingPolicy::kDelay, 1.0 / 30, 0.0), std::invalid_argument);
+  DriverLimits limits;
+  limits.max_speed_m_s = 0;
+  try {
+    TrackingDriver driver(TrackingPolicy::kDelay, 1.0 / 30, limits);
+    FAIL() << "accepted a zero speed limit";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("max_speed_m_s"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
