@@ -232,7 +232,9 @@ TEST(ObjectPose, FilterDropsALoneOutlyingFitAsPredicted) {
       EXPECT_LT(translation_distance_m(u.objects[0].X_CO, X_CO), 2e-3);
     } else {
       EXPECT_EQ(r.objects[0].status, TrackStatus::kTracked) << "frame " << i;
-      if (i > 8) EXPECT_LT(translation_distance_m(r.objects[0].X_CO, X_CO), 3e-3) << "frame " << i;
+      if (i > 8) {
+        EXPECT_LT(translation_distance_m(r.objects[0].X_CO, X_CO), 3e-3) << "frame " << i;
+      }
     }
   }
   EXPECT_EQ(rejected, 1);

@@ -10,7 +10,7 @@
 // world-frame angular velocity, updated through the rotation vector of the residual
 // (an error-state filter). The measurement noise it assumes is the configured one or,
 // when the measurements scatter more about a steady motion, their estimate: configured
-// for 1 mm and fed 5 mm, it followed the noise, and a pushed bunny was thrown at 3.5-4x
+// for 1 mm and fed 5 mm, it followed the noise, and a pushed bunny was thrown at 3.3-4x
 // the push in the evaluation's stability map (2.3-2.9x with the estimate).
 // A measurement further from the prediction than the gate is one of two things. Alone,
 // right after an accepted one (within max_coast_s), it is taken for an outlier: a
