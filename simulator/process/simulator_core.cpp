@@ -22,7 +22,7 @@ void SimulatorCore::reset() {
   spawn_counter_.clear();
   for (const auto& object : scene_.objects) {
     if (object.role == config::Role::kReal && object.motion == config::Motion::kKinematic)
-      drivers_.emplace(object.id, TrackingDriver(options_.policy, 1.0 / 30, options_.driver_limits));
+      drivers_.emplace(object.id, TrackingDriver(options_.policy, options_.driver_limits));
     spawn_counter_[object.id] = static_cast<int>(object.spawn_at_start.size());
   }
   proxy_contacts_.clear();

@@ -31,7 +31,7 @@ constexpr double kMinCatchUpRate_rad_s = 0.5;
 
 }  // namespace
 
-TrackingDriver::TrackingDriver(TrackingPolicy policy, double default_frame_interval_s, const DriverLimits& limits)
+TrackingDriver::TrackingDriver(TrackingPolicy policy, const DriverLimits& limits, double default_frame_interval_s)
     : policy_(policy), max_speed_m_s_(limits.max_speed_m_s), max_rate_rad_s_(limits.max_rate_rad_s),
       catch_up_factor_(limits.catch_up_factor), speed_limit_m_s_(limits.max_speed_m_s),
       rate_limit_rad_s_(limits.max_rate_rad_s), frame_interval_s_(default_frame_interval_s) {

@@ -40,7 +40,7 @@ class TrackingDriver {
  public:
   // Throws std::invalid_argument naming the limit that is not positive (or, for the
   // catch-up factor, below 1).
-  TrackingDriver(TrackingPolicy policy, double default_frame_interval_s = 1.0 / 30, const DriverLimits& limits = {});
+  TrackingDriver(TrackingPolicy policy, const DriverLimits& limits = {}, double default_frame_interval_s = 1.0 / 30);
 
   // A measured pose captured at simulation time capture_t_s (must increase; the
   // caller checks). now_s: the current simulation time.

@@ -66,7 +66,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
 
   std::mt19937 rng(s.seed);
   std::normal_distribution<double> noise(0, 1);
-  sim::TrackingDriver driver(sim::TrackingPolicy::kDelay, 1.0 / s.frame_rate_hz);
+  sim::TrackingDriver driver(sim::TrackingPolicy::kDelay, {}, 1.0 / s.frame_rate_hz);
   tracking::ConstantVelocityPoseFilter filter;
   const double dt = scene.time_step_s;
   const double frame_interval = 1.0 / s.frame_rate_hz;

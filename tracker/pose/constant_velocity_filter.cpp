@@ -66,12 +66,12 @@ Eigen::Vector2d ConstantVelocityPoseFilter::AxisCovariance::update(double r) {
 
 double ConstantVelocityPoseFilter::NoiseEstimate::observe(const Eigen::Vector3d& velocity_change, double spread_per_s2,
                                                           double floor_variance, double alpha) {
-  const double in_force = std::max(floor_variance, variance);
+  const double in_force = this->in_force(floor_variance);
   // A sample is clipped at 3 sigma: a sudden stop is one large velocity change, the
   // motion's and not the noise's, and may not raise the estimate much.
   const double per_axis = std::min(velocity_change.squaredNorm() / 3 / spread_per_s2, 9 * in_force);
   variance += alpha * (per_axis - variance);
-  return std::max(floor_variance, variance);
+  return this->in_force(floor_variance);
 }
 
 void ConstantVelocityPoseFilter::restart(const geometry::Pose& X, double t_s) {

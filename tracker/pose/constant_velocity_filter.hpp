@@ -67,8 +67,12 @@ class ConstantVelocityPoseFilter {
 
   // The measurement standard deviations the filter assumes now (the configured ones, or
   // more, as the measurements show).
-  double position_noise_m() const { return std::sqrt(std::max(params_.position_noise_m * params_.position_noise_m, position_variance_.variance)); }
-  double rotation_noise_rad() const { return std::sqrt(std::max(params_.rotation_noise_rad * params_.rotation_noise_rad, rotation_variance_.variance)); }
+  double position_noise_m() const {
+    return std::sqrt(position_variance_.in_force(params_.position_noise_m * params_.position_noise_m));
+  }
+  double rotation_noise_rad() const {
+    return std::sqrt(rotation_variance_.in_force(params_.rotation_noise_rad * params_.rotation_noise_rad));
+  }
 
   // The filter's velocity estimates (zero before two measurements).
   const Eigen::Vector3d& velocity_m_s() const { return v_m_s_; }
@@ -86,10 +90,12 @@ class ConstantVelocityPoseFilter {
   // A running estimate of one part's measurement variance (per axis), from the change
   // of its velocity between consecutive measurement intervals (an exponential mean,
   // weight alpha per measurement). Not from the filter's innovations: after a sudden
-  // stop they stay large for several frames and the estimate rose with them (a 12 mm
-  // overshoot against 7.5); the velocity changes once.
+  // stop they stay large for several frames and the estimate rose with them (a 12.4 mm
+  // overshoot against 7.4 over 40 noise draws); the velocity changes once.
   struct NoiseEstimate {
     double variance = 0;
+    // The measurement variance to assume: the estimate, never below the configured one.
+    double in_force(double floor_variance) const { return std::max(floor_variance, variance); }
     // Takes one velocity change in, with the measurement variance's factor in its
     // variance (1/s^2); returns the measurement variance to update with (never below
     // floor_variance).

@@ -87,14 +87,14 @@ TEST(TrackingDriver, FlippedPoseTurnsTheBodyNoFasterThanTheLimit) {
 TEST(TrackingDriver, CatchUpFactorBelowOneIsRefused) {
   DriverLimits limits;
   limits.catch_up_factor = 0.5;
-  EXPECT_THROW(TrackingDriver(TrackingPolicy::kDelay, 1.0 / 30, limits), std::invalid_argument);
+  EXPECT_THROW(TrackingDriver(TrackingPolicy::kDelay, limits), std::invalid_argument);
 }
 
 TEST(TrackingDriver, NonPositiveLimitsAreRefused) {
   DriverLimits limits;
   limits.max_speed_m_s = 0;
   try {
-    TrackingDriver driver(TrackingPolicy::kDelay, 1.0 / 30, limits);
+    TrackingDriver driver(TrackingPolicy::kDelay, limits);
     FAIL() << "accepted a zero speed limit";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("max_speed_m_s"), std::string::npos) << e.what();
