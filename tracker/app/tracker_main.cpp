@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
   CLI::App app{"arphys tracker: camera frames in, fiducial markers and 6-DoF object poses out (LCM, JSON).\n"
                "Poses are camera-from-marker and camera-from-object (metres, quaternions w x y z);\n"
                "corners in OpenCV's pixel convention (pixel centres at integers)."};
-  std::string camera_path, source, scene_path, impl = "apriltag", url, name = "tracker", filter = "none";
+  std::string camera_path, source, scene_path, impl = "apriltag", url, name = "tracker", filter = "constant_velocity";
   std::vector<std::string> params, families;
   double marker_size_m = 0, fps = 30, camera_fps = 0, predict_s = 0.1, duration_s = 0;
   int width = 0, height = 0;
@@ -78,7 +78,8 @@ int main(int argc, char** argv) {
   app.add_option("--predict-s", predict_s, "an object not seen is PREDICTED for this long, then LOST, seconds")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
   app.add_option("--filter", filter, "pose filter on object and camera poses: one_euro steadies a still marker, "
-                                     "constant_velocity (a Kalman filter) smooths a moving one for physics")
+                                     "constant_velocity (a Kalman filter) smooths a moving one for physics (the default, as in arphys-launch), "
+                                     "none publishes the raw fits")
       ->check(CLI::IsMember({"none", "one_euro", "constant_velocity"}))
       ->capture_default_str();
   app.add_flag("--json", json, "print one JSON line per frame on stdout; exit at the end of a file or folder");
