@@ -16,12 +16,21 @@
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/disjoint_sets.hpp"
 #include "simulator/dynamics/manifold_reduction.hpp"
+#include "simulator/dynamics/position_projection.hpp"
 
 namespace arphys::dynamics {
 namespace {
 
 // Rounding allowance of a gap between boxes computed from metre-sized coordinates.
 constexpr double kGapRounding_m = 1e-9;
+// Gauss-Seidel sweeps of a projection (World::project_deep_points): the lifted points
+// are a few dozen in a pile's round, most settled in two or three.
+constexpr int kProjectionSweeps = 50;
+// Rounds of a projection: lift, measure every touched pair at the lifted poses, lift the
+// pairs found too deep with the rest.
+constexpr int kProjectionRounds = 8;
+// Projections before a part of a step falls back to re-solving its deep points.
+constexpr int kMaxProjectionsPerMotion = 4;
 
 // The angular velocity after h_s of torque-free motion.
 Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3d& w_W_rad_s, double h_s) {
@@ -772,6 +781,98 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
                           X_A.linear().transpose() * point.normal_W});
 }
 
+bool World::project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
+                                const ImpactMap& meeting, const ImpactCache& cache,
+                                const std::vector<std::pair<int, int>>& resting_pairs) const {
+  if (meeting.empty()) return false;
+  for (const auto& [pair, hits] : meeting) {
+    // Resting primitive pairs only: a CCD meeting (end_depth_m < 0) is an impact, which
+    // the re-solve bounces; a mesh pair's depth is not measured.
+    const bool deep = std::any_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; });
+    if (!deep) continue;  // a CCD meeting, for the re-solve
+    if (!depth_measured(bodies_[pair.first], bodies_[pair.second]) || !cache.count(pair)) return false;
+  }
+  const double tolerance = options_.overlap_tolerance_m;
+  // How deep a pair may end: as the end check allows, the deeper of the tolerance and a
+  // tenth of it over the pair's start depth (measured here for a pair the check skipped:
+  // one that barely moved).
+  const auto allowed_depth = [&](const std::pair<int, int>& pair) {
+    const auto it = cache.find(pair);
+    if (it != cache.end() && it->second.allowed_depth_m > 0) return it->second.allowed_depth_m;
+    const double start_depth = deepest_overlap(pair.first, bodies_[pair.first].X_WB, pair.second, bodies_[pair.second].X_WB);
+    return std::max(start_depth + 0.1 * tolerance, tolerance);
+  };
+  std::vector<ProjectedBody> moved;
+  std::vector<int> slot_of_moved;  // participant slot of each projected body
+  std::map<int, int> index;        // body -> index in moved
+  const auto body_index = [&](int body) {
+    const auto [it, added] = index.try_emplace(body, static_cast<int>(moved.size()));
+    if (added) {
+      const RigidBody& b = bodies_[body];
+      const int slot = slot_of(participants, body);
+      ProjectedBody projected;
+      projected.X_WB = next[slot];  // (a non-dynamic body's end pose, which it keeps)
+      projected.center_of_mass_B = b.mass.center_of_mass_m;
+      if (b.is_dynamic()) {
+        projected.inverse_mass_1_kg = 1.0 / b.mass.mass_kg;
+        projected.inverse_inertia_W = b.inverse_inertia_W();
+      }
+      moved.push_back(projected);
+      slot_of_moved.push_back(slot);
+    }
+    return it->second;
+  };
+  const auto pose_of = [&](int body) { return moved[body_index(body)].X_WB; };
+  // The pairs being lifted: every point of theirs within a few tolerances is held at the
+  // resting gap (lifting a box's deepest corner turns it onto its others), or, for a pair
+  // that started deeper (a tracked body pushed it in), half a tolerance under what it may
+  // end at. Pairs that the lifts deepen beyond what they may join them, round by round.
+  std::set<std::pair<int, int>> lifted;
+  for (const auto& [pair, hits] : meeting)
+    if (std::any_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; })) lifted.insert(pair);
+  if (lifted.empty()) return false;
+  for (int round = 0; round < kProjectionRounds; ++round) {
+    std::vector<ProjectedPoint> points;
+    for (const auto& pair : lifted) {
+      const RigidBody& a = bodies_[pair.first];
+      const RigidBody& b = bodies_[pair.second];
+      const geometry::Pose X_A = pose_of(pair.first), X_B = pose_of(pair.second);
+      const double allowed = allowed_depth(pair);
+      const double target = allowed - 0.5 * tolerance;
+      for (const auto& f : collision::contact_manifold(a.shape, X_A, b.shape, X_B, 4 * tolerance))
+        points.push_back({body_index(pair.first), body_index(pair.second), X_A.inverse() * f.point_A_W,
+                          X_B.inverse() * f.point_B_W, X_A.linear().transpose() * f.normal_W, target});
+    }
+    // A quarter of the tolerance over the targets: the pairs are measured again below.
+    if (!project_points(moved, points, 0.25 * tolerance, kProjectionSweeps).converged) return false;
+    // Every resting pair of a body the lifts moved, measured at the lifted poses.
+    const auto lifted_body = [&](int body) {
+      const auto it = index.find(body);
+      return it != index.end() && moved[it->second].X_WB.matrix() != next[slot_of_moved[it->second]].matrix();
+    };
+    bool settled = true;
+    for (const auto& pair : resting_pairs) {
+      if (!(lifted_body(pair.first) || lifted_body(pair.second)) ||
+          !depth_measured(bodies_[pair.first], bodies_[pair.second]))
+        continue;
+      const double allowed = allowed_depth(pair);
+      for (const auto& f : collision::contact_manifold(bodies_[pair.first].shape, pose_of(pair.first),
+                                                       bodies_[pair.second].shape, pose_of(pair.second), 0.0))
+        if (-f.distance_m > allowed) {
+          settled = false;
+          lifted.insert(pair);
+          break;
+        }
+    }
+    if (settled) {
+      for (std::size_t k = 0; k < moved.size(); ++k)
+        if (moved[k].inverse_mass_1_kg > 0) next[slot_of_moved[k]] = moved[k].X_WB;
+      return true;
+    }
+  }
+  return false;
+}
+
 double World::max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const {
   // Two kinds of pair keep to the contact tolerance, as before the two were separate
   // options: a mesh's, whose thinnest part is not known (a bunny's ear, a cup's wall); and
@@ -967,6 +1068,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
                                       : collision::overlapping_pairs_updated(swept_boxes, changed, swept_pairs);
       swept_to = next;
     };
+    int projections = 0;  // rounds of this part of the step that lifted end poses instead of solving
     for (int round = 0;; ++round) {
       ImpactMap meeting;
       bool deepening = false;
@@ -998,6 +1100,16 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           if (!would_wait || !tracked_moving()) tau = std::min(tau, shallow);
         }
         break;
+      }
+      // Nothing meets inside the step; resting pairs only end it too deep: their end poses
+      // are lifted (the velocities stay the solve's), and the next round checks the motion
+      // to the lifted poses as it checked this one.
+      if (options_.project_deep_points && deepening && projections < kMaxProjectionsPerMotion &&
+          project_deep_points(participants, next, meeting, cache, resting_pairs)) {
+        ++report.projections;
+        ++projections;
+        --round;  // (not a re-solve: the rounds of re-solves stay three)
+        continue;
       }
       bool chained = false;
       for (auto& [pair, hits] : meeting) {

@@ -71,6 +71,12 @@ struct WorldOptions {
   // Approach speeds below this do not bounce (resting contact under gravity).
   double restitution_threshold_m_s = 0.05;
   int max_events_per_step = 16;
+  // Points of resting primitive pairs (boxes, spheres, planes) that the step's motion
+  // leaves deeper than overlap_tolerance_m, with nothing meeting inside the step, are
+  // lifted out by moving the end poses (post-stabilisation, position_projection.hpp)
+  // instead of by a velocity constraint and another solve of the step. False: every
+  // such point is a constraint of a re-solve, as before the twenty-eighth session.
+  bool project_deep_points = true;
   // Launch guard (see World::solve and StepReport::launches_prevented): speed (of a
   // body's kinetic energy) a solve may add beyond twice the fastest body it couples and
   // the depenetration speed.
@@ -121,6 +127,7 @@ struct Contact {
 
 struct StepReport {
   int impacts_resolved = 0;     // meetings found by the CCD and made constraints of the step
+  int projections = 0;          // rounds whose too-deep resting points were lifted by moving end poses
   int events = 0;               // times the step was cut at a time of impact (its busiest group's)
   bool events_capped = false;   // a group's step ended at an impact (time kept, motion dropped)
   int contacts = 0;             // constraints in the last solve of the step
@@ -330,6 +337,12 @@ class World {
   // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
   // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
   // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
+  // Lifts the points of `meeting` (resting primitive pairs ending too deep, nothing else)
+  // out by moving the end poses `next`; false (next unchanged) when a pair is not such a
+  // pair or the points cannot all be lifted (a body squeezed between fixed ones).
+  bool project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
+                           const ImpactMap& meeting, const ImpactCache& cache,
+                           const std::vector<std::pair<int, int>>& resting_pairs) const;
   double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                           const ImpactCache& cache, const ImpactMap& meeting) const;
   // Kinematic participants to their trajectory pose at t_s, moving as they will over

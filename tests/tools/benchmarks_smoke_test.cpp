@@ -39,8 +39,8 @@ void expect_measured(const CsvRow& row, const std::string& key) {
   EXPECT_TRUE(std::isfinite(value) && value > 0) << key << " = " << value;
 }
 
-const std::set<std::string> kDynamicsEngines{"arphys",   "arphys-10um",   "arphys-iterative", "bullet",   "ode-step",
-                                             "ode-quick", "mujoco-newton", "mujoco-pgs",       "mujoco-cg"};
+const std::set<std::string> kDynamicsEngines{"arphys",      "arphys-10um",   "arphys-iterative", "arphys-resolve", "bullet",
+                                             "ode-step",    "ode-quick",     "mujoco-newton",    "mujoco-pgs",     "mujoco-cg"};
 
 // The stacks, the push and the drops of the dynamics issue, every engine, a fraction of a
 // second each: the shared scenes reach each peer (they sink into their contacts, which

@@ -32,7 +32,7 @@
 
 namespace arphys::dyn_bench {
 
-std::unique_ptr<Engine> make_arphys_engine(const std::string& variant);  // arphys, arphys-iterative, arphys-10um
+std::unique_ptr<Engine> make_arphys_engine(const std::string& variant);  // arphys, arphys-iterative, arphys-10um, arphys-resolve
 std::unique_ptr<Engine> make_bullet_engine();
 std::unique_ptr<Engine> make_ode_engine(bool quick);
 std::unique_ptr<Engine> make_mujoco_engine(const std::string& solver);
@@ -51,7 +51,7 @@ std::unique_ptr<Engine> make_engine(const std::string& v) {
 const char* const kPileEngines[] = {"arphys", "arphys-10um", "ode-quick"};
 
 std::vector<std::string> all_engines() {
-  return {"arphys", "arphys-10um", "arphys-iterative", "bullet", "ode-step", "ode-quick", "mujoco-newton", "mujoco-pgs", "mujoco-cg"};
+  return {"arphys", "arphys-10um", "arphys-iterative", "arphys-resolve", "bullet", "ode-step", "ode-quick", "mujoco-newton", "mujoco-pgs", "mujoco-cg"};
 }
 
 }  // namespace arphys::dyn_bench
@@ -360,7 +360,7 @@ void run_anchor_pile(const std::vector<std::string>& all, Csv& csv) {
   std::map<std::pair<std::string, double>, double> mean_ms;  // by (engine, mu)
   for (double mu : {0.0, 0.5})
     for (const std::string& e : all) {
-      if (e != "arphys" && e != "arphys-10um" && e != "ode-quick" && e != "bullet") continue;
+      if (e != "arphys" && e != "arphys-10um" && e != "arphys-resolve" && e != "ode-quick" && e != "bullet") continue;
       const DropRun r = drop_once(e, 1000, mu, 2.0, 0);
       if (!r.error.empty()) {
         std::printf("%-18s %5.1f  could not build: %s\n", e.c_str(), mu, r.error.c_str());
