@@ -23,8 +23,9 @@
 // A pair touching at the start of a step (which the CCD cannot time), or resting (in
 // contact) and moving less than resting_unswept_motion_m relative to each other, is
 // checked at the end of its motion instead: if it ends deeper than overlap_tolerance_m,
-// its deepest points join the constraints (see ImpactPoint), and failing that the step is
-// cut; a step cut mid-motion is cut early enough that no such pair is left deeper there
+// a primitive pair is lifted out by moving the end poses (project_deep_points: velocities
+// unchanged), otherwise its deepest points join the constraints (see ImpactPoint), and
+// failing that the step is cut; a step cut mid-motion is cut early enough that no such pair is left deeper there
 // than the rest of the step undoes.
 // Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
 // push dynamic ones through the same contacts. Nothing ever passes through anything:

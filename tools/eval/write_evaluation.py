@@ -381,14 +381,14 @@ def main():
       "and the bunnies run slow for that moment (1-3 s given up in a 20 s main job; pose -> world state max "
       "91-186 ms against 614-1489 ms unbounded). The quick run has no "
       "N = 1000 drop, where we stay within a few micrometres of overlap but are far slower per step than ODE "
-      "quickstep: 4-5x frictionless and 6-6.5x with friction over the first second (4-5x and 6-6.4x allowing 10 um, the "
-      "arphys-10um rows); over the 2 s the anchor measured, 3.5-3.8x with friction (isotropic Coulomb friction since the "
-      "nineteenth session) and 9.5-11.8x frictionless (twenty-first and twenty-fourth sessions' runs of the same engine, "
-      "since the pile's step stopped paying for page faults; 12x since box pairs further apart than they move in a step are not swept, in the twentieth; 50x before "
-      "resting pairs of boxes were left unswept up to "
-      "10 mm of relative motion a step, in the seventeenth), where the pile spreads over its frictionless floor "
-      "and every strike is an exact impact (6-8x allowing 10 um; docs/dynamics.md, scene 6). Same-run ratios "
-      "moved by a fifth between runs of the same code on this shared machine.\n")
+      "quickstep: 4.5x frictionless and 6x with friction over the first second (4-5x and 6x allowing 10 um, the "
+      "arphys-10um rows); over the 2 s the anchor measured, 3-3.8x with friction (isotropic Coulomb friction since the "
+      "nineteenth session) and 9.7x frictionless since the twenty-eighth session, which lifts resting boxes left "
+      "micrometres too deep by moving their end poses instead of solving the pile again (12.7-13.8x without that, the "
+      "arphys-resolve rows; 9.5-11.8x in the twenty-first and twenty-fourth sessions' runs; 50x before resting pairs of "
+      "boxes were left unswept up to 10 mm of relative motion a step, in the seventeenth), where the pile spreads over "
+      "its frictionless floor and every strike is an exact impact (7.6x allowing 10 um; docs/dynamics.md, scene 6). "
+      "Same-run ratios moved by a fifth between runs of the same code on this shared machine.\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
