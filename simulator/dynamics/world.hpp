@@ -127,7 +127,9 @@ struct Contact {
 };
 
 struct StepReport {
-  int impacts_resolved = 0;     // meetings found by the CCD and made constraints of the step
+  // Rounds of the step that had something to resolve: CCD meetings or end checks found too
+  // deep, each re-solved or, for resting primitive pairs, lifted (`projections` of them).
+  int impacts_resolved = 0;
   int projections = 0;          // rounds whose too-deep resting points were lifted by moving end poses
   int events = 0;               // times the step was cut at a time of impact (its busiest group's)
   bool events_capped = false;   // a group's step ended at an impact (time kept, motion dropped)

@@ -78,13 +78,14 @@ int main(int argc, char** argv) {
   write_rows(out, world);
 
   const long steps = std::lround(duration_s / dt_s);
-  long resolves = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, iterative = 0;
+  long resolves = 0, lifts = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, iterative = 0;
   double deepest = 0, worst_kkt = 0;
   const auto start = std::chrono::steady_clock::now();
   auto last_progress = start;
   for (long k = 0; k < steps; ++k) {
     const dynamics::StepReport report = world.step(dt_s);
-    resolves += report.impacts_resolved;
+    resolves += report.impacts_resolved - report.projections;
+    lifts += report.projections;
     cuts += report.events;
     capped += report.events_capped;
     infeasible += report.infeasible;
@@ -102,11 +103,11 @@ int main(int argc, char** argv) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr,
                "\r[simulate] %s: %ld steps of %.4g s, %zu bodies; %.3f ms per step (real-time factor %.2f); %ld re-solves "
-               "(CCD meetings and end checks), %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, "
+               "(CCD meetings and end checks), %ld lifts of resting points left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, "
                "%ld launches prevented, %ld island solves too large for the exact solver; deepest overlap %.3g m; "
                "worst KKT residual %.3g m/s\n",
                scene.name.c_str(), steps, dt_s, world.bodies().size(), 1e3 * wall_s / std::max(1L, steps),
-               duration_s / std::max(wall_s, 1e-9), resolves, cuts, capped, infeasible, launches, iterative, deepest,
+               duration_s / std::max(wall_s, 1e-9), resolves, lifts, cuts, capped, infeasible, launches, iterative, deepest,
                worst_kkt);
   return 0;
 }
