@@ -49,8 +49,9 @@ ProjectionResult project_points(std::vector<ProjectedBody>& bodies, const std::v
                        rn_b.dot(b.inverse_inertia_W * rn_b);
       if (!(w > 0)) continue;  // both bodies fixed: nothing to move
       const double impulse = excess / w;
-      displace(a, -impulse * a.inverse_mass_1_kg * n, -impulse * (a.inverse_inertia_W * rn_a));
-      displace(b, impulse * b.inverse_mass_1_kg * n, impulse * (b.inverse_inertia_W * rn_b));
+      // (A fixed body is left bit for bit where it is: the caller tells moved bodies by their poses.)
+      if (a.inverse_mass_1_kg > 0) displace(a, -impulse * a.inverse_mass_1_kg * n, -impulse * (a.inverse_inertia_W * rn_a));
+      if (b.inverse_mass_1_kg > 0) displace(b, impulse * b.inverse_mass_1_kg * n, impulse * (b.inverse_inertia_W * rn_b));
     }
     result.worst_excess_m = worst;
     if (worst <= tolerance_m) {

@@ -44,8 +44,9 @@ struct ProjectionResult {
 // Depth of a point at the bodies' poses (positive: inside).
 double projected_depth_m(const std::vector<ProjectedBody>& bodies, const ProjectedPoint& point);
 
-// Sweeps over the points, lifting each that is deeper than its target, until none is
-// deeper by more than tolerance_m or max_sweeps. Moves bodies[..].X_WB.
+// Sweeps over the points, lifting each that is deeper than its target, until a sweep
+// finds none deeper by more than tolerance_m (each measured as the sweep reaches it) or
+// max_sweeps. Moves the poses of the bodies with inverse mass; the others stay bit for bit.
 ProjectionResult project_points(std::vector<ProjectedBody>& bodies, const std::vector<ProjectedPoint>& points,
                                 double tolerance_m, int max_sweeps);
 

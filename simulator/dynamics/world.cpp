@@ -784,14 +784,16 @@ void World::check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion&
 bool World::project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                                 const ImpactMap& meeting, const ImpactCache& cache,
                                 const std::vector<std::pair<int, int>>& resting_pairs) const {
-  if (meeting.empty()) return false;
+  // The pairs to lift: those ending too deep. A CCD meeting's points (end_depth_m < 0) are
+  // an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
+  // left to it too (its depth is not measured), and then so is everything.
+  std::set<std::pair<int, int>> lifted;
   for (const auto& [pair, hits] : meeting) {
-    // Resting primitive pairs only: a CCD meeting (end_depth_m < 0) is an impact, which
-    // the re-solve bounces; a mesh pair's depth is not measured.
-    const bool deep = std::any_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; });
-    if (!deep) continue;  // a CCD meeting, for the re-solve
+    if (std::none_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; })) continue;
     if (!depth_measured(bodies_[pair.first], bodies_[pair.second]) || !cache.count(pair)) return false;
+    lifted.insert(pair);
   }
+  if (lifted.empty()) return false;
   const double tolerance = options_.overlap_tolerance_m;
   // How deep a pair may end: as the end check allows, the deeper of the tolerance and a
   // tenth of it over the pair's start depth (measured here for a pair the check skipped:
@@ -823,14 +825,11 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
     return it->second;
   };
   const auto pose_of = [&](int body) { return moved[body_index(body)].X_WB; };
-  // The pairs being lifted: every point of theirs within a few tolerances is held at the
-  // resting gap (lifting a box's deepest corner turns it onto its others), or, for a pair
-  // that started deeper (a tracked body pushed it in), half a tolerance under what it may
-  // end at. Pairs that the lifts deepen beyond what they may join them, round by round.
-  std::set<std::pair<int, int>> lifted;
-  for (const auto& [pair, hits] : meeting)
-    if (std::any_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; })) lifted.insert(pair);
-  if (lifted.empty()) return false;
+  // Every point of a lifted pair within a few tolerances (lifting a box's deepest corner
+  // turns it onto its others) is held at half a tolerance under what the pair may end at:
+  // held at the resting gap instead, pairs resting within the tolerance were pushed apart
+  // too and the lift spread through a pile. Pairs that the lifts deepen beyond what they
+  // may join them, round by round.
   for (int round = 0; round < kProjectionRounds; ++round) {
     std::vector<ProjectedPoint> points;
     for (const auto& pair : lifted) {

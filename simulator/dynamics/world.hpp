@@ -340,9 +340,10 @@ class World {
   // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
   // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
   // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
-  // Lifts the points of `meeting` (resting primitive pairs ending too deep, nothing else)
-  // out by moving the end poses `next`; false (next unchanged) when a pair is not such a
-  // pair or the points cannot all be lifted (a body squeezed between fixed ones).
+  // Lifts the pairs of `meeting` that end too deep (resting primitive pairs) out by moving
+  // the end poses `next`, with the resting pairs the lift deepens; CCD meetings are left
+  // for the re-solve. False (next unchanged) when a mesh pair ends too deep or the lift does
+  // not converge (a body squeezed between fixed ones).
   bool project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                            const ImpactMap& meeting, const ImpactCache& cache,
                            const std::vector<std::pair<int, int>>& resting_pairs) const;
