@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "simulator/dynamics/rigid_body.hpp"
+
 namespace arphys::dynamics {
 
 double projected_depth_m(const std::vector<ProjectedBody>& bodies, const ProjectedPoint& point) {
@@ -16,14 +18,7 @@ namespace {
 
 // Moves a body's centre of mass by dx_W and turns it about its centre by dtheta_W.
 void displace(ProjectedBody& body, const Eigen::Vector3d& dx_W, const Eigen::Vector3d& dtheta_W) {
-  const Eigen::Vector3d com_W = body.X_WB * body.center_of_mass_B + dx_W;
-  const double angle = dtheta_W.norm();
-  if (angle > 0) {
-    const Eigen::Matrix3d R = Eigen::AngleAxisd(angle, dtheta_W / angle).toRotationMatrix() * body.X_WB.linear();
-    // Re-orthonormalised: a pose turned thousands of times must stay a rotation.
-    body.X_WB.linear() = Eigen::Quaterniond(R).normalized().toRotationMatrix();
-  }
-  body.X_WB.translation() = com_W - body.X_WB.linear() * body.center_of_mass_B;
+  body.X_WB = moved_about_com(body.X_WB, body.center_of_mass_B, dx_W, dtheta_W, dtheta_W.norm());
 }
 
 }  // namespace

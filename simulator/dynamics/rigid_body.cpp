@@ -14,6 +14,17 @@ double RigidBody::kinetic_energy_J() const {
   return 0.5 * mass.mass_kg * v_WC_m_s.squaredNorm() + 0.5 * w_W_rad_s.dot(inertia_W() * w_W_rad_s);
 }
 
+geometry::Pose moved_about_com(const geometry::Pose& X_WB, const Eigen::Vector3d& com_B,
+                               const Eigen::Vector3d& com_shift_W, const Eigen::Vector3d& turn_axis_W, double turn_rad) {
+  Eigen::Matrix3d R = X_WB.linear();
+  if (turn_rad > 0) R = Eigen::AngleAxisd(turn_rad, turn_axis_W.normalized()).toRotationMatrix() * R;
+  R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
+  geometry::Pose X = geometry::Pose::Identity();
+  X.linear() = R;
+  X.translation() = X_WB * com_B + com_shift_W - R * com_B;
+  return X;
+}
+
 double RigidBody::bounding_radius_m() const {
   switch (shape.type()) {
     case collision::Shape::Type::kPlane: return std::numeric_limits<double>::infinity();

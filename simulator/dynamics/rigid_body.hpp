@@ -53,4 +53,11 @@ struct RigidBody {
   double bounding_radius_m() const;
 };
 
+// X_WB moved so that the body's centre of mass (com_B, body frame) shifts by com_shift_W
+// and the body turns by turn_rad about turn_axis_W (any length) through that centre; the
+// rotation re-orthonormalised (thousands of such products drift off SO(3)). A step's
+// integration and a position correction both move a body this way.
+geometry::Pose moved_about_com(const geometry::Pose& X_WB, const Eigen::Vector3d& com_B,
+                               const Eigen::Vector3d& com_shift_W, const Eigen::Vector3d& turn_axis_W, double turn_rad);
+
 }  // namespace arphys::dynamics

@@ -72,15 +72,7 @@ Eigen::AlignedBox3d ball_bounds(const Eigen::Vector3d& centre, double radius) {
 
 // A body's pose after moving its centre of mass with v and turning with w for h.
 geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h) {
-  const double angle = u.w_W_rad_s.norm() * h;
-  Eigen::Matrix3d R = body.X_WB.linear();
-  if (angle > 0) R = Eigen::AngleAxisd(angle, u.w_W_rad_s.normalized()).toRotationMatrix() * R;
-  // Re-orthonormalise: thousands of steps of products drift off SO(3).
-  R = Eigen::Quaterniond(R).normalized().toRotationMatrix();
-  geometry::Pose X = geometry::Pose::Identity();
-  X.linear() = R;
-  X.translation() = body.com_W() + u.v_WC_m_s * h - R * body.mass.center_of_mass_m;
-  return X;
+  return moved_about_com(body.X_WB, body.mass.center_of_mass_m, u.v_WC_m_s * h, u.w_W_rad_s, u.w_W_rad_s.norm() * h);
 }
 
 // The CCD says the pair meets inside the motion (a time of impact the step can be cut at).
@@ -805,11 +797,10 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
     return std::max(start_depth + 0.1 * tolerance, tolerance);
   };
   std::vector<ProjectedBody> moved;
-  std::vector<int> slot_of_moved;  // participant slot of each projected body
-  std::map<int, int> index;        // body -> index in moved
+  std::vector<int> slot_of_moved;                       // participant slot of each projected body
+  std::vector<int> index(bodies_.size(), -1);           // body -> index in moved
   const auto body_index = [&](int body) {
-    const auto [it, added] = index.try_emplace(body, static_cast<int>(moved.size()));
-    if (added) {
+    if (index[body] < 0) {
       const RigidBody& b = bodies_[body];
       const int slot = slot_of(participants, body);
       ProjectedBody projected;
@@ -819,10 +810,11 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
         projected.inverse_mass_1_kg = 1.0 / b.mass.mass_kg;
         projected.inverse_inertia_W = b.inverse_inertia_W();
       }
+      index[body] = static_cast<int>(moved.size());
       moved.push_back(projected);
       slot_of_moved.push_back(slot);
     }
-    return it->second;
+    return index[body];
   };
   const auto pose_of = [&](int body) { return moved[body_index(body)].X_WB; };
   // Every point of a lifted pair within a few tolerances (lifting a box's deepest corner
@@ -844,14 +836,15 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
     }
     // A quarter of the tolerance over the targets: the pairs are measured again below.
     if (!project_points(moved, points, 0.25 * tolerance, kProjectionSweeps).converged) return false;
-    // Every resting pair of a body the lifts moved, measured at the lifted poses.
-    const auto lifted_body = [&](int body) {
-      const auto it = index.find(body);
-      return it != index.end() && moved[it->second].X_WB.matrix() != next[slot_of_moved[it->second]].matrix();
-    };
+    // Every resting pair of a body the lifts moved, measured at the lifted poses. (Which
+    // bodies moved is settled once per round: the group's resting pairs are thousands in
+    // a pile, and a pose comparison per pair was most of a lift's own time.)
+    std::vector<char> lifted_body(bodies_.size(), 0);
+    for (std::size_t k = 0; k < moved.size(); ++k)
+      if (moved[k].X_WB.matrix() != next[slot_of_moved[k]].matrix()) lifted_body[participants[slot_of_moved[k]]] = 1;
     bool settled = true;
     for (const auto& pair : resting_pairs) {
-      if (!(lifted_body(pair.first) || lifted_body(pair.second)) ||
+      if (!(lifted_body[pair.first] || lifted_body[pair.second]) ||
           !depth_measured(bodies_[pair.first], bodies_[pair.second]))
         continue;
       const double allowed = allowed_depth(pair);
