@@ -344,7 +344,14 @@ int main(int argc, char** argv) {
   int64_t spawn_seq = 0;
   const auto start = std::chrono::steady_clock::now();
   auto last_line = start, last_spawn = start;
-  constexpr double kDrainS = 2.5, kCameraLateLimitS = 20.0;
+  // After the camera's last frame the run waits until no frame message has come for
+  // kSettledS (the pipeline has carried that frame through and lcm-logger has it), at
+  // most kDrainS.
+  constexpr double kDrainS = 2.5, kSettledS = 0.5, kCameraLateLimitS = 20.0;
+  int64_t frame_messages = -1;
+  std::chrono::steady_clock::time_point last_frame_message = start;
+  std::string drain_ended_by;
+  double drain_s = 0;  // from the camera's end to the run's
   std::ptrdiff_t camera_child = -1;
   for (std::size_t i = 0; i < children.size(); ++i) {
     if (children[i].name == "camera") camera_child = static_cast<std::ptrdiff_t>(i);
@@ -363,7 +370,18 @@ int main(int argc, char** argv) {
     if (camera_child >= 0) {
       const Child& c = children[static_cast<std::size_t>(camera_child)];
       if (c.exited && !camera_done) camera_done = now;
-      if (camera_done && std::chrono::duration<double>(now - *camera_done).count() > kDrainS) break;
+      if (latency.frame_messages() != frame_messages) {
+        frame_messages = latency.frame_messages();
+        last_frame_message = now;
+      }
+      if (camera_done) {
+        drain_s = std::chrono::duration<double>(now - *camera_done).count();
+        const double quiet_s = std::chrono::duration<double>(now - std::max(last_frame_message, *camera_done)).count();
+        if (quiet_s > kSettledS || drain_s > kDrainS) {
+          drain_ended_by = quiet_s > kSettledS ? "settled" : "drain_limit";
+          break;
+        }
+      }
       if (elapsed > duration_s + kCameraLateLimitS) {
         std::fprintf(stderr, "arphys-launch: the camera is still playing %.0f s after its script's end; stopping\n",
                      kCameraLateLimitS);
@@ -455,6 +473,11 @@ int main(int argc, char** argv) {
   report["memory"] = memory.to_json();
   report["receive_loss"] = receive_loss;
   report["tracking_policy"] = tracking_policy.empty() ? scene.tracking_policy : tracking_policy;
+  // How the run ended after the camera's last frame: "settled" (no frame message for
+  // kSettledS), "drain_limit" (still busy kDrainS later); null without a synthetic camera
+  // or when it ended otherwise (a death, a signal, the camera's late limit).
+  report["drain"] = {{"ended_by", drain_ended_by.empty() ? nlohmann::json() : nlohmann::json(drain_ended_by)},
+                     {"seconds", drain_s}};
   // The simulation time the simulator gave up to keep within --sim-max-lag-s of the camera.
   report["simulator"] = {{"max_lag_s", sim_max_lag_s}, {"dropped_time_s", nullptr}};
   if (const auto it = heartbeats.find("simulator"); it != heartbeats.end()) {

@@ -30,6 +30,10 @@ class LatencyReport {
   nlohmann::json to_json() const;
   void print() const;  // a table on stdout
   void write_samples_csv(const std::string& path) const;  // stage,ms per sample
+  // Frame messages counted so far (images, poses, first world states of a frame, renders):
+  // once the source has stopped, the pipeline has carried its last frame through when this
+  // stops growing.
+  int64_t frame_messages() const { return images_ + poses_ + static_cast<int64_t>(world_publish_.size()) + renders_; }
 
  private:
   struct Stage {
