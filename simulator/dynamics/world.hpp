@@ -25,8 +25,8 @@
 // checked at the end of its motion instead: if it ends deeper than overlap_tolerance_m,
 // a primitive pair is lifted out by moving the end poses (project_deep_points: velocities
 // unchanged), otherwise its deepest points join the constraints (see ImpactPoint), and
-// failing that the step is cut; a step cut mid-motion is cut early enough that no such pair is left deeper there
-// than the rest of the step undoes.
+// failing that the step is cut; a step cut mid-motion is cut early enough that no such
+// pair is left deeper there than the rest of the step undoes.
 // Kinematic bodies follow their trajectories (tracked poses, screw-interpolated) and
 // push dynamic ones through the same contacts. Nothing ever passes through anything:
 // surfaces only meet at a CCD time of impact, where they touch.
@@ -336,10 +336,6 @@ class World {
   double halved_until_within(const std::pair<int, int>& pair, const geometry::ScrewMotion& motion_a,
                              const geometry::ScrewMotion& motion_b, double fraction, int max_halvings,
                              const std::function<double(double)>& allowed_depth_m) const;
-  // The fraction of the motions to `next` at which no touching pair that deepens is
-  // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
-  // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
-  // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
   // Lifts the pairs of `meeting` that end too deep (resting primitive pairs) out by moving
   // the end poses `next`, with the resting pairs the lift deepens; CCD meetings are left
   // for the re-solve. False (next unchanged) when a mesh pair ends too deep or the lift does
@@ -347,6 +343,10 @@ class World {
   bool project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                            const ImpactMap& meeting, const ImpactCache& cache,
                            const std::vector<std::pair<int, int>>& resting_pairs) const;
+  // The fraction of the motions to `next` at which no touching pair that deepens is
+  // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
+  // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
+  // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
   double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                           const ImpactCache& cache, const ImpactMap& meeting) const;
   // Kinematic participants to their trajectory pose at t_s, moving as they will over

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <vector>
@@ -248,13 +249,19 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
   if (lifted.empty()) return false;
   const double tolerance = options_.overlap_tolerance_m;
   // How deep a pair may end: as the end check allows, the deeper of the tolerance and a
-  // tenth of it over the pair's start depth (measured here for a pair the check skipped:
-  // one that barely moved).
+  // tenth of it over the pair's start depth (measured here, once, for a pair the check
+  // skipped: one that barely moved; the start poses do not change between rounds).
+  std::map<std::pair<int, int>, double> allowed_unchecked;
   const auto allowed_depth = [&](const std::pair<int, int>& pair) {
     const auto it = cache.find(pair);
     if (it != cache.end() && it->second.allowed_depth_m > 0) return it->second.allowed_depth_m;
-    const double start_depth = deepest_overlap(pair.first, bodies_[pair.first].X_WB, pair.second, bodies_[pair.second].X_WB);
-    return std::max(start_depth + 0.1 * tolerance, tolerance);
+    const auto [known, fresh] = allowed_unchecked.try_emplace(pair, 0.0);
+    if (fresh) {
+      const double start_depth =
+          deepest_overlap(pair.first, bodies_[pair.first].X_WB, pair.second, bodies_[pair.second].X_WB);
+      known->second = std::max(start_depth + 0.1 * tolerance, tolerance);
+    }
+    return known->second;
   };
   std::vector<ProjectedBody> moved;
   std::vector<int> slot_of_moved;                       // participant slot of each projected body
