@@ -22,51 +22,93 @@ Eigen::AlignedBox3d TriangleMesh::bounds() const {
 
 namespace {
 
+void append_mesh(const aiMesh* mesh, const aiMatrix4x4& transform, const Eigen::Vector3d& scale, TriangleMesh& out) {
+  const int base = static_cast<int>(out.vertices_m.size());
+  for (unsigned int i = 0; i < mesh->mNumVertices; ++i) {
+    const aiVector3D v = transform * mesh->mVertices[i];
+    out.vertices_m.emplace_back(v.x * scale.x(), v.y * scale.y(), v.z * scale.z());
+  }
+  for (unsigned int f = 0; f < mesh->mNumFaces; ++f) {
+    const aiFace& face = mesh->mFaces[f];
+    if (face.mNumIndices != 3) continue;  // points and lines carry no surface
+    out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
+                               base + static_cast<int>(face.mIndices[2]));
+  }
+}
+
+// Every mesh under the node, depth first, into one mesh (merged) or one part each.
 void append_node(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent, const Eigen::Vector3d& scale,
-                 TriangleMesh& out) {
+                 TriangleMesh* merged, std::vector<TriangleMesh>* parts) {
   const aiMatrix4x4 transform = parent * node->mTransformation;
   for (unsigned int m = 0; m < node->mNumMeshes; ++m) {
     const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
-    const int base = static_cast<int>(out.vertices_m.size());
-    for (unsigned int i = 0; i < mesh->mNumVertices; ++i) {
-      const aiVector3D v = transform * mesh->mVertices[i];
-      out.vertices_m.emplace_back(v.x * scale.x(), v.y * scale.y(), v.z * scale.z());
+    if (merged) {
+      append_mesh(mesh, transform, scale, *merged);
+      continue;
     }
-    for (unsigned int f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines carry no surface
-      out.triangles.emplace_back(base + static_cast<int>(face.mIndices[0]), base + static_cast<int>(face.mIndices[1]),
-                                 base + static_cast<int>(face.mIndices[2]));
-    }
+    TriangleMesh part;
+    append_mesh(mesh, transform, scale, part);
+    if (!part.triangles.empty()) parts->push_back(std::move(part));
   }
-  for (unsigned int c = 0; c < node->mNumChildren; ++c) append_node(scene, node->mChildren[c], transform, scale, out);
+  for (unsigned int c = 0; c < node->mNumChildren; ++c)
+    append_node(scene, node->mChildren[c], transform, scale, merged, parts);
 }
 
-}  // namespace
-
-void save_obj(const TriangleMesh& mesh, const std::string& path) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write " + path);
-  out.precision(std::numeric_limits<float>::max_digits10);
+// Writes the mesh's `v` and `f` lines, its vertex numbers starting after `base` earlier ones.
+void write_obj_body(std::ostream& out, const TriangleMesh& mesh, std::size_t base) {
   for (const auto& v : mesh.vertices_m) out << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
-  for (const auto& t : mesh.triangles) out << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
-  if (!out.flush()) throw std::runtime_error("writing " + path + " failed");
+  for (const auto& t : mesh.triangles)
+    out << "f " << base + t[0] + 1 << " " << base + t[1] + 1 << " " << base + t[2] + 1 << "\n";
 }
 
-TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
+// The importer's scene of a mesh file; throws naming the path when there is none.
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path) {
   if (!std::filesystem::is_regular_file(path)) {
     throw std::runtime_error("mesh file '" + path + "' does not exist or is not a regular file");
   }
-  Assimp::Importer importer;
   const aiScene* scene =
       importer.ReadFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType);
   if (scene == nullptr || scene->mRootNode == nullptr) {
     throw std::runtime_error("mesh file '" + path + "' could not be read: " + importer.GetErrorString());
   }
+  return scene;
+}
+
+}  // namespace
+
+void save_obj(const TriangleMesh& mesh, const std::string& path) { save_obj_parts({mesh}, {}, path); }
+
+void save_obj_parts(const std::vector<TriangleMesh>& parts, const std::vector<std::string>& header,
+                    const std::string& path) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write " + path);
+  out.precision(std::numeric_limits<float>::max_digits10);
+  for (const std::string& line : header) out << "# " << line << "\n";
+  std::size_t base = 0;
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    if (parts.size() > 1) out << "o part_" << k << "\n";
+    write_obj_body(out, parts[k], base);
+    base += parts[k].num_vertices();
+  }
+  if (!out.flush()) throw std::runtime_error("writing " + path + " failed");
+}
+
+TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
+  Assimp::Importer importer;
+  const aiScene* scene = read_scene(importer, path);
   TriangleMesh mesh;
-  append_node(scene, scene->mRootNode, aiMatrix4x4(), scale, mesh);
+  append_node(scene, scene->mRootNode, aiMatrix4x4(), scale, &mesh, nullptr);
   if (mesh.triangles.empty()) throw std::runtime_error("mesh file '" + path + "' holds no triangles");
   return mesh;
+}
+
+std::vector<TriangleMesh> load_mesh_parts(const std::string& path, const Eigen::Vector3d& scale) {
+  Assimp::Importer importer;
+  const aiScene* scene = read_scene(importer, path);
+  std::vector<TriangleMesh> parts;
+  append_node(scene, scene->mRootNode, aiMatrix4x4(), scale, nullptr, &parts);
+  if (parts.empty()) throw std::runtime_error("mesh file '" + path + "' holds no triangles");
+  return parts;
 }
 
 MeshTopology mesh_topology(const TriangleMesh& mesh) {

@@ -25,10 +25,20 @@ struct TriangleMesh {
 // missing, cannot be parsed or holds no triangles.
 TriangleMesh load_mesh(const std::string& path, const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
 
+// Loads a file's meshes one by one (an OBJ's `o` objects, in file order), each
+// triangulated with its identical vertices joined and scaled; errors as load_mesh.
+// Convex-piece files (collision/convex_piece.hpp) hold one piece per object.
+std::vector<TriangleMesh> load_mesh_parts(const std::string& path,
+                                          const Eigen::Vector3d& scale = Eigen::Vector3d::Ones());
+
 // Writes the mesh as Wavefront OBJ (`v` and `f` lines only), coordinates to 9
 // significant digits: what load_mesh keeps (assimp reads single precision). Throws
 // std::runtime_error naming the path when it cannot be written.
 void save_obj(const TriangleMesh& mesh, const std::string& path);
+// Writes the parts as one OBJ, one `o part_K` object each, after the header lines
+// (each written as an OBJ comment), at the same precision as save_obj.
+void save_obj_parts(const std::vector<TriangleMesh>& parts, const std::vector<std::string>& header,
+                    const std::string& path);
 
 // Boundary edges (used by exactly one triangle) and non-manifold edges (more than two).
 struct MeshTopology {
