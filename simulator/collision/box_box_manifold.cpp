@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "simulator/collision/convex_manifold.hpp"
 #include "simulator/collision/triangle_distance.hpp"
 
 namespace arphys::collision {
@@ -13,19 +14,6 @@ struct Box {
   Eigen::Vector3d half;
   double radius_along(const Eigen::Vector3d& n) const { return (axes.transpose() * n).cwiseAbs().dot(half); }
 };
-
-// Clips a convex polygon to the half space n.x <= offset (Sutherland-Hodgman).
-std::vector<Eigen::Vector3d> clip(const std::vector<Eigen::Vector3d>& polygon, const Eigen::Vector3d& n, double offset) {
-  std::vector<Eigen::Vector3d> out;
-  for (std::size_t i = 0; i < polygon.size(); ++i) {
-    const Eigen::Vector3d& p = polygon[i];
-    const Eigen::Vector3d& q = polygon[(i + 1) % polygon.size()];
-    const double dp = n.dot(p) - offset, dq = n.dot(q) - offset;
-    if (dp <= 0) out.push_back(p);
-    if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) out.push_back(p + (dp / (dp - dq)) * (q - p));
-  }
-  return out;
-}
 
 // Face contact: `ref`'s face with outward normal n (pointing at `inc`) against inc's most
 // opposed face, appended as manifold points from A to B (`ref_is_A` says which is which).
@@ -51,8 +39,8 @@ void face_contact(const Box& ref, const Box& inc, const Eigen::Vector3d& n, bool
     const int a = (r + i) % 3;
     const Eigen::Vector3d axis = ref.axes.col(a);
     const double c = axis.dot(ref.center);
-    polygon = clip(polygon, axis, c + ref.half[a]);
-    polygon = clip(polygon, -axis, -c + ref.half[a]);
+    polygon = clip_to_half_space(polygon, axis, c + ref.half[a]);
+    polygon = clip_to_half_space(polygon, -axis, -c + ref.half[a]);
   }
   for (const Eigen::Vector3d& p : polygon) {
     const double d = face_n.dot(p - face_center);

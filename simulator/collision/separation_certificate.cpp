@@ -79,7 +79,8 @@ double gap_lower_bound_m(const Shape& A, const geometry::Pose& X_WA, const Shape
         X_WO = X_WS;
         half_m = 0.5 * shape.size_m();
         return true;
-      case Shape::Type::kMesh: {
+      case Shape::Type::kMesh:
+      case Shape::Type::kConvexSet: {
         const Obb& root = shape.triangles()->tree().root().box;
         geometry::Pose X_SO = geometry::Pose::Identity();
         X_SO.linear() = root.axes;

@@ -16,6 +16,9 @@ Shape Shape::box(const Eigen::Vector3d& size_m) {
   s.type_ = Type::kBox;
   s.size_m_ = size_m;
   s.mesh_ = std::make_shared<const CollisionMesh>(geometry::make_box_mesh(size_m), /*test_each_feature_once=*/true);
+  std::vector<ConvexPiece> piece;
+  piece.emplace_back(geometry::make_box_mesh(size_m));
+  s.convex_ = make_convex_set(std::move(piece));
   return s;
 }
 
@@ -36,12 +39,24 @@ Shape Shape::mesh(std::shared_ptr<const CollisionMesh> mesh) {
   return s;
 }
 
+Shape Shape::convex_set(std::shared_ptr<const ConvexSet> pieces) {
+  if (!pieces || pieces->pieces.empty() || !pieces->hulls) throw std::invalid_argument("Shape::convex_set: no pieces");
+  Shape s;
+  s.type_ = Type::kConvexSet;
+  s.mesh_ = pieces->hulls;
+  s.convex_ = std::move(pieces);
+  return s;
+}
+
 std::string Shape::describe() const {
   switch (type_) {
     case Type::kPlane: return "plane";
     case Type::kBox: return "box";
     case Type::kSphere: return "sphere";
     case Type::kMesh: return "mesh (" + std::to_string(mesh_->mesh().num_triangles()) + " triangles)";
+    case Type::kConvexSet:
+      return "convex set (" + std::to_string(convex_->pieces.size()) + " pieces, " +
+             std::to_string(mesh_->mesh().num_vertices()) + " vertices)";
   }
   return "?";
 }

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "simulator/collision/box_box_manifold.hpp"
+#include "simulator/collision/convex_manifold.hpp"
 #include "simulator/collision/feature_toi.hpp"
 #include "simulator/collision/screw_enclosure.hpp"
 #include "simulator/collision/separation_certificate.hpp"
@@ -177,7 +178,8 @@ int rank(Shape::Type type) {
   switch (type) {
     case Shape::Type::kPlane: return 0;
     case Shape::Type::kBox:
-    case Shape::Type::kMesh: return 1;
+    case Shape::Type::kMesh:
+    case Shape::Type::kConvexSet: return 1;
     case Shape::Type::kSphere: return 2;
   }
   return 3;
@@ -261,6 +263,7 @@ std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose
     case Shape::Type::kPlane: {
       if (B.type() == Shape::Type::kPlane)
         throw std::invalid_argument("contact_manifold: plane against plane is not supported (model one as a box)");
+      if (B.type() == Shape::Type::kConvexSet) return plane_convex_set_manifold(X_WA, *B.convex(), X_WB, tolerance_m);
       if (B.type() != Shape::Type::kSphere) return plane_mesh_manifold(X_WA, *B.triangles(), X_WB, tolerance_m);
       const Eigen::Vector3d n = X_WA.linear().col(2);
       const double height = n.dot(X_WB.translation() - X_WA.translation()) - B.radius_m();
@@ -269,7 +272,14 @@ std::vector<ManifoldPoint> contact_manifold(const Shape& A, const geometry::Pose
       return {{on_sphere - height * n, on_sphere, n, height, {-1, -1}}};
     }
     case Shape::Type::kBox:
-      if (B.type() == Shape::Type::kBox) return box_box_manifold(A.size_m(), X_WA, B.size_m(), X_WB, tolerance_m);
+    case Shape::Type::kConvexSet:
+      if (A.type() == Shape::Type::kBox && B.type() == Shape::Type::kBox)
+        return box_box_manifold(A.size_m(), X_WA, B.size_m(), X_WB, tolerance_m);
+      // Convex pieces meet boxes and pieces by separating axes, spheres by signed
+      // distances, and meshes as their hulls' triangles.
+      if (A.convex() && B.convex()) return convex_set_manifold(*A.convex(), X_WA, *B.convex(), X_WB, tolerance_m);
+      if (A.type() == Shape::Type::kConvexSet && B.type() == Shape::Type::kSphere)
+        return convex_set_sphere_manifold(*A.convex(), X_WA, B.radius_m(), X_WB, tolerance_m);
       [[fallthrough]];
     case Shape::Type::kMesh:
       return B.type() == Shape::Type::kSphere
@@ -314,6 +324,7 @@ ContinuousResult time_of_impact(const Shape& A, const ScrewMotion& motion_A, con
       if (B.type() == Shape::Type::kBox && boxes_stay_apart(0.5 * A.size_m(), motion_A, 0.5 * B.size_m(), motion_B)) break;
       [[fallthrough]];
     case Shape::Type::kMesh:
+    case Shape::Type::kConvexSet:  // swept as its pieces' hulls: their first touch is the set's
       result = B.type() == Shape::Type::kSphere
                    ? mesh_vs_sphere(*A.triangles(), motion_A, B.radius_m(), motion_B, options)
                    : time_of_impact(*A.triangles(), motion_A, *B.triangles(), motion_B, options);

@@ -30,7 +30,8 @@ double RigidBody::bounding_radius_m() const {
     case collision::Shape::Type::kPlane: return std::numeric_limits<double>::infinity();
     case collision::Shape::Type::kSphere: return shape.radius_m();
     case collision::Shape::Type::kBox: return 0.5 * shape.size_m().norm();
-    case collision::Shape::Type::kMesh: {
+    case collision::Shape::Type::kMesh:
+    case collision::Shape::Type::kConvexSet: {
       double r = 0;
       for (const auto& v : shape.triangles()->mesh().vertices_m) r = std::max(r, v.norm());
       return r;

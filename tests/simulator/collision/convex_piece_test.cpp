@@ -1,0 +1,105 @@
+// Convex pieces: the shipped bunny's pieces load and are polyhedra; what is not one is
+// refused with the file, the piece and the reason.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "simulator/collision/collision_mesh.hpp"
+#include "simulator/collision/convex_piece.hpp"
+
+namespace arphys::collision {
+namespace {
+
+const std::string kBunnyPieces = std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj";
+
+std::string refusal(geometry::TriangleMesh mesh) {
+  try {
+    ConvexPiece piece(std::move(mesh));
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "";
+}
+
+bool starts_with(const std::string& text, const std::string& prefix) { return text.rfind(prefix, 0) == 0; }
+
+TEST(ConvexPiece, BoxHasSixFacesTwelveEdgesAndItsThickness) {
+  const ConvexPiece box(geometry::make_box_mesh({0.4, 0.2, 0.1}));
+  EXPECT_EQ(box.vertices_m().size(), 8u);
+  EXPECT_EQ(box.faces().size(), 6u);
+  EXPECT_EQ(box.edges().size(), 12u);
+  EXPECT_NEAR(box.volume_m3(), 0.008, 1e-15);
+  EXPECT_NEAR(box.half_thickness_m(), 0.05, 1e-15);
+  for (const auto& face : box.faces()) {
+    EXPECT_EQ(face.polygon.size(), 4u);
+    // Counter-clockwise seen from outside: the polygon's own normal is the face's.
+    const auto& v = box.vertices_m();
+    const Eigen::Vector3d n = (v[face.polygon[1]] - v[face.polygon[0]]).cross(v[face.polygon[2]] - v[face.polygon[1]]);
+    EXPECT_GT(n.normalized().dot(face.normal), 0.999999);
+    EXPECT_NEAR(face.normal.dot(v[face.polygon[0]]), face.offset_m, 1e-15);
+  }
+  EXPECT_EQ(box.support({1, 1, 1}), box.support({1, 1, 1}));
+  EXPECT_NEAR(box.vertices_m()[box.support({1, 1, 1})].sum(), 0.35, 1e-15);
+}
+
+TEST(ConvexPiece, ShippedBunnyPiecesArePolyhedra) {
+  const auto set = load_convex_set(kBunnyPieces, Eigen::Vector3d::Constant(0.8));
+  ASSERT_EQ(set->pieces.size(), 10u);
+  double volume = 0;
+  for (const ConvexPiece& piece : set->pieces) {
+    EXPECT_GT(piece.half_thickness_m(), 1e-3);
+    EXPECT_GE(piece.faces().size(), 4u);
+    // Euler's formula for a convex polyhedron's faces, edges and vertices.
+    EXPECT_EQ(piece.vertices_m().size() + piece.faces().size(), piece.edges().size() + 2);
+    volume += piece.volume_m3();
+  }
+  // The scaled bunny is about 0.12 m across; its pieces hold about its volume.
+  EXPECT_GT(volume, 2e-4);
+  EXPECT_LT(volume, 6e-4);
+  EXPECT_TRUE(set->hulls->closed());
+  EXPECT_EQ(set->hulls->mesh().num_vertices(), 297u);
+}
+
+TEST(ConvexPiece, RefusesWhatIsNoPolyhedronWithTheReason) {
+  const geometry::TriangleMesh box = geometry::make_box_mesh({0.1, 0.1, 0.1});
+  geometry::TriangleMesh open = box;
+  open.triangles.pop_back();
+  EXPECT_TRUE(starts_with(refusal(open), "not closed")) << refusal(open);
+  geometry::TriangleMesh dented = box;
+  dented.vertices_m[0] *= 0.5;  // a corner pushed in: the faces around it fold inwards
+  EXPECT_TRUE(starts_with(refusal(dented), "not convex")) << refusal(dented);
+  geometry::TriangleMesh nan = box;
+  nan.vertices_m[3].x() = std::nan("");
+  EXPECT_TRUE(starts_with(refusal(nan), "non-finite")) << refusal(nan);
+  geometry::TriangleMesh few;
+  few.vertices_m = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  few.triangles = {{0, 1, 2}, {0, 2, 1}};
+  EXPECT_TRUE(starts_with(refusal(few), "empty")) << refusal(few);
+  geometry::TriangleMesh inside_out = box;
+  for (auto& t : inside_out.triangles) std::swap(t[1], t[2]);
+  EXPECT_TRUE(starts_with(refusal(inside_out), "not convex")) << refusal(inside_out);
+  geometry::TriangleMesh flat = box;
+  for (auto& v : flat.vertices_m) v.z() = 0;
+  EXPECT_TRUE(starts_with(refusal(flat), "degenerate")) << refusal(flat);
+}
+
+TEST(ConvexPiece, FileWithABadPieceNamesTheFileAndThePiece) {
+  const std::string path = ::testing::TempDir() + "/bad.pieces.obj";
+  geometry::TriangleMesh good = geometry::make_box_mesh({0.1, 0.1, 0.1}), open = good;
+  open.triangles.pop_back();
+  geometry::save_obj_parts({good, open}, {"a closed box, then one with a face missing"}, path);
+  try {
+    load_convex_set(path);
+    FAIL() << "an open piece was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(path), std::string::npos) << what;
+    EXPECT_NE(what.find("piece 1: not closed"), std::string::npos) << what;
+  }
+  std::remove(path.c_str());
+  EXPECT_THROW(load_convex_set(path), std::invalid_argument);  // missing file: named too
+}
+
+}  // namespace
+}  // namespace arphys::collision
