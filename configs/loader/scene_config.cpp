@@ -30,6 +30,7 @@ const char* to_string(ShapeType type) {
     case ShapeType::kBox: return "box";
     case ShapeType::kSphere: return "sphere";
     case ShapeType::kMesh: return "mesh";
+    case ShapeType::kConvexSet: return "convex_set";
   }
   return "?";
 }
@@ -84,7 +85,7 @@ ObjectConfig parse_object(const Reader& r, const YAML::Node& node, const std::st
   object.collision = r.shape(r.required(node, key, "collision"), key + ".collision");
   object.render = node["render"].IsDefined() ? r.shape(node["render"], key + ".render") : object.collision;
   if (object.motion == Motion::kDynamic && object.collision.type == ShapeType::kPlane) {
-    r.fail(node["collision"], key + ".collision.shape", "a plane cannot be dynamic (it has no mass), expected box, sphere or mesh");
+    r.fail(node["collision"], key + ".collision.shape", "a plane cannot be dynamic (it has no mass), expected box, sphere, mesh or convex_set");
   }
   if (node["mass_kg"].IsDefined() && node["density_kg_m3"].IsDefined()) {
     r.fail(node["density_kg_m3"], key + ".density_kg_m3", "given together with mass_kg, expected at most one of them");

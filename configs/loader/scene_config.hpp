@@ -14,7 +14,7 @@ namespace arphys::config {
 
 enum class Role { kReal, kVirtual };
 enum class Motion { kStatic, kKinematic, kDynamic };
-enum class ShapeType { kPlane, kBox, kSphere, kMesh };
+enum class ShapeType { kPlane, kBox, kSphere, kMesh, kConvexSet };
 
 const char* to_string(Role role);
 const char* to_string(Motion motion);
@@ -24,8 +24,10 @@ struct ShapeConfig {
   ShapeType type = ShapeType::kBox;
   Eigen::Vector3d size_m = Eigen::Vector3d::Zero();  // box: full side lengths
   double radius_m = 0;                               // sphere
-  std::string mesh_path;                             // mesh: absolute path, checked to exist
-  Eigen::Vector3d scale = Eigen::Vector3d::Ones();   // mesh: applied to the file's vertices
+  std::string mesh_path;                             // mesh: absolute path, checked to exist; convex_set: the
+                                                     // mesh its mass properties come from (optional)
+  std::string pieces_path;                           // convex_set: the convex-piece file, absolute, checked to exist
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();   // mesh, convex_set: applied to the file's vertices
   // plane: the half-space z <= 0 of the object frame (no parameters).
 };
 

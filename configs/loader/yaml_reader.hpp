@@ -129,10 +129,19 @@ class Reader {
   }
 
   ShapeConfig shape(const YAML::Node& node, const std::string& key) const {
-    only_keys(node, key, {"shape", "size_m", "radius_m", "mesh", "scale"});
+    only_keys(node, key, {"shape", "size_m", "radius_m", "mesh", "pieces", "scale"});
     ShapeConfig out;
     const YAML::Node type_node = required(node, key, "shape");
     const std::string type = string(type_node, join(key, "shape"));
+    const auto refuse = [&](const char* name, const std::string& shapes) {
+      if (node[name].IsDefined())
+        fail(node[name], join(key, name), "'" + std::string(name) + "' is a key of " + shapes + ", not of a " + type);
+    };
+    if (type != "mesh" && type != "convex_set") {
+      refuse("mesh", "mesh and convex_set shapes");
+      refuse("scale", "mesh and convex_set shapes");
+    }
+    if (type != "convex_set") refuse("pieces", "convex_set shapes");
     if (type == "plane") {
       out.type = ShapeType::kPlane;
     } else if (type == "box") {
@@ -148,22 +157,31 @@ class Reader {
     } else if (type == "sphere") {
       out.type = ShapeType::kSphere;
       out.radius_m = positive(required(node, key, "radius_m"), join(key, "radius_m"), "a positive radius in metres");
-    } else if (type == "mesh") {
-      out.type = ShapeType::kMesh;
-      out.mesh_path = path(required(node, key, "mesh"), join(key, "mesh"), "mesh file");
-      const YAML::Node scale = node["scale"];
-      if (scale.IsDefined()) {
-        const std::string scale_key = join(key, "scale");
-        if (scale.IsSequence()) {
-          out.scale = vector(scale, scale_key, 3, "positive scale factors");
-        } else {
-          out.scale = Eigen::Vector3d::Constant(number(scale, scale_key, "a positive scale factor or a list of 3"));
-        }
-        if (!(out.scale.minCoeff() > 0)) fail(scale, scale_key, "got " + shown(scale) + ", expected positive scale factors");
+    } else if (type == "mesh" || type == "convex_set") {
+      if (type == "mesh") {
+        out.type = ShapeType::kMesh;
+        out.mesh_path = path(required(node, key, "mesh"), join(key, "mesh"), "mesh file");
+      } else {
+        out.type = ShapeType::kConvexSet;
+        out.pieces_path = path(required(node, key, "pieces"), join(key, "pieces"), "convex-piece file");
+        if (node["mesh"].IsDefined()) out.mesh_path = path(node["mesh"], join(key, "mesh"), "mesh file");
       }
+      out.scale = scale_of(node, key);
     } else {
-      fail(type_node, join(key, "shape"), "got '" + type + "', expected one of: plane, box, sphere, mesh");
+      fail(type_node, join(key, "shape"), "got '" + type + "', expected one of: plane, box, sphere, mesh, convex_set");
     }
+    return out;
+  }
+
+  // A mesh's or convex set's `scale`: one positive factor or three.
+  Eigen::Vector3d scale_of(const YAML::Node& node, const std::string& key) const {
+    const YAML::Node scale = node["scale"];
+    if (!scale.IsDefined()) return Eigen::Vector3d::Ones();
+    const std::string scale_key = join(key, "scale");
+    const Eigen::Vector3d out = scale.IsSequence()
+                                    ? vector(scale, scale_key, 3, "positive scale factors")
+                                    : Eigen::Vector3d::Constant(number(scale, scale_key, "a positive scale factor or a list of 3"));
+    if (!(out.minCoeff() > 0)) fail(scale, scale_key, "got " + shown(scale) + ", expected positive scale factors");
     return out;
   }
 

@@ -11,6 +11,7 @@ geometry::TriangleMesh mesh_of(const config::ShapeConfig& shape) {
     case config::ShapeType::kBox: return geometry::make_box_mesh(shape.size_m);
     case config::ShapeType::kSphere: return geometry::make_sphere_mesh(shape.radius_m, 3);
     case config::ShapeType::kMesh: return geometry::load_mesh(shape.mesh_path, shape.scale);
+    case config::ShapeType::kConvexSet: return geometry::load_mesh(shape.pieces_path, shape.scale);  // the hulls
     case config::ShapeType::kPlane: {
       // The half-space z <= 0: its top face as a thin slab.
       geometry::TriangleMesh slab = geometry::make_box_mesh({4.0, 4.0, 0.002});

@@ -18,6 +18,13 @@ std::shared_ptr<const collision::CollisionMesh> cached_mesh(const std::string& p
   return slot;
 }
 
+std::shared_ptr<const collision::ConvexSet> cached_pieces(const std::string& path, const Eigen::Vector3d& scale) {
+  static std::map<std::pair<std::string, std::tuple<double, double, double>>, std::shared_ptr<const collision::ConvexSet>> cache;
+  auto& slot = cache[std::make_pair(path, std::make_tuple(scale.x(), scale.y(), scale.z()))];
+  if (!slot) slot = collision::load_convex_set(path, scale);
+  return slot;
+}
+
 BodyMotion motion_of(config::Motion motion) {
   switch (motion) {
     case config::Motion::kStatic: return BodyMotion::kStatic;
@@ -35,6 +42,7 @@ collision::Shape shape_of(const config::ShapeConfig& shape) {
     case config::ShapeType::kBox: return collision::Shape::box(shape.size_m);
     case config::ShapeType::kSphere: return collision::Shape::sphere(shape.radius_m);
     case config::ShapeType::kMesh: return collision::Shape::mesh(cached_mesh(shape.mesh_path, shape.scale));
+    case config::ShapeType::kConvexSet: return collision::Shape::convex_set(cached_pieces(shape.pieces_path, shape.scale));
   }
   return collision::Shape::plane();
 }
@@ -45,19 +53,23 @@ geometry::MassProperties mass_properties_of(const config::ObjectConfig& object) 
   switch (object.collision.type) {
     case config::ShapeType::kBox: props = geometry::box_mass_properties(object.collision.size_m, density); break;
     case config::ShapeType::kSphere: props = geometry::sphere_mass_properties(object.collision.radius_m, density); break;
-    case config::ShapeType::kMesh: {
+    case config::ShapeType::kMesh:
+    case config::ShapeType::kConvexSet: {
       // Every spawn of a model asks again: loading, capping and integrating a 5k mesh
-      // took about 10 ms, a hitch in the live simulator at each spawn.
+      // took about 10 ms, a hitch in the live simulator at each spawn. Convex pieces
+      // weigh what their source mesh does, or their hulls' union when none is named.
+      const bool pieces = object.collision.type == config::ShapeType::kConvexSet && object.collision.mesh_path.empty();
+      const std::string& path = pieces ? object.collision.pieces_path : object.collision.mesh_path;
       static std::map<std::tuple<std::string, double, double, double, double>, geometry::MassProperties> cache;
-      const auto key = std::make_tuple(object.collision.mesh_path, object.collision.scale.x(), object.collision.scale.y(),
+      const auto key = std::make_tuple(path, object.collision.scale.x(), object.collision.scale.y(),
                                        object.collision.scale.z(), density);
       const auto cached = cache.find(key);
       if (cached != cache.end()) {
         props = cached->second;
         break;
       }
-      auto mesh = geometry::load_mesh(object.collision.mesh_path, object.collision.scale);
-      geometry::cap_boundary_loops(mesh);
+      auto mesh = geometry::load_mesh(path, object.collision.scale);
+      if (!pieces) geometry::cap_boundary_loops(mesh);
       try {
         props = geometry::mesh_mass_properties(mesh, density);
       } catch (const std::exception& e) {

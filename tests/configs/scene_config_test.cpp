@@ -26,7 +26,9 @@ TEST(SceneConfig, BunnyBoxTableLoads) {
   EXPECT_LT((box->markers[1].X_OM.linear().col(2) - Eigen::Vector3d::UnitX()).norm(), 1e-12);
   EXPECT_EQ(scene.find_marker_owner("tag36h11", 2)->id, "table");
   const ObjectConfig* bunny = scene.find_object("bunny");
-  EXPECT_EQ(bunny->collision.type, ShapeType::kMesh);
+  EXPECT_EQ(bunny->collision.type, ShapeType::kConvexSet);
+  EXPECT_NE(bunny->collision.pieces_path.find("stanford-bunny-1k-quadric.pieces.obj"), std::string::npos);
+  EXPECT_NE(bunny->collision.mesh_path.find("stanford-bunny-1k-quadric.obj"), std::string::npos);
   EXPECT_DOUBLE_EQ(bunny->collision.scale.x(), 0.8);
   EXPECT_DOUBLE_EQ(*bunny->mass_kg, 0.2);
   EXPECT_EQ(bunny->spawn_at_start.size(), 1u);
@@ -223,7 +225,13 @@ TEST_F(BadScene, EveryRefusalNamesTheKeyAndWhatWasExpected) {
       {"  - id: b\n    role: virtual\n    motion: floating\n    collision: {shape: sphere, radius_m: 0.1}\n", "",
        "objects[1].motion: got 'floating', expected 'static', 'kinematic' or 'dynamic'"},
       {"  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: plane}\n", "",
-       "objects[1].collision.shape: a plane cannot be dynamic (it has no mass), expected box, sphere or mesh"},
+       "objects[1].collision.shape: a plane cannot be dynamic (it has no mass), expected box, sphere, mesh or convex_set"},
+      {"  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: convex_set, scale: 0.8}\n", "",
+       "objects[1].collision.pieces"},
+      {"  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: convex_set, pieces: nowhere.obj}\n", "",
+       "objects[1].collision.pieces: convex-piece file 'nowhere.obj' not found"},
+      {"  - id: b\n    role: virtual\n    motion: dynamic\n    collision: {shape: box, size_m: [1, 1, 1], pieces: a.obj}\n",
+       "", "objects[1].collision.pieces: 'pieces' is a key of convex_set shapes, not of a box"},
       {ball + "    mass_kg: 1\n    density_kg_m3: 1000\n", "",
        "objects[1].density_kg_m3: given together with mass_kg, expected at most one of them"},
       {ball + "    density_kg_m3: -5\n", "", "objects[1].density_kg_m3: got -5, expected a positive density in kg/m^3"},

@@ -139,6 +139,9 @@ std::unique_ptr<tools::RegistrationReport> registration_for(const config::SceneC
         box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-o.collision.radius_m), Eigen::Vector3d::Constant(o.collision.radius_m));
         break;
       case config::ShapeType::kMesh: box = geometry::load_mesh(o.collision.mesh_path, o.collision.scale).bounds(); break;
+      case config::ShapeType::kConvexSet:
+        box = geometry::load_mesh(o.collision.pieces_path, o.collision.scale).bounds();
+        break;
       case config::ShapeType::kPlane: continue;
     }
     std::vector<Eigen::Vector3d> corners;

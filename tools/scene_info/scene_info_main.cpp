@@ -43,6 +43,16 @@ std::string describe_shape(const config::ShapeConfig& shape) {
                                       : (std::to_string(topology.boundary_edges) + " boundary edges").c_str());
       return text;
     }
+    case config::ShapeType::kConvexSet: {
+      const auto parts = geometry::load_mesh_parts(shape.pieces_path, shape.scale);
+      std::size_t vertices = 0;
+      for (const auto& part : parts) vertices += part.num_vertices();
+      std::snprintf(text, sizeof text, "convex set %s x%.3g: %zu pieces, %zu vertices%s%s",
+                    std::filesystem::path(shape.pieces_path).filename().c_str(), shape.scale.x(), parts.size(), vertices,
+                    shape.mesh_path.empty() ? "" : ", mass from ",
+                    shape.mesh_path.empty() ? "" : std::filesystem::path(shape.mesh_path).filename().c_str());
+      return text;
+    }
   }
   return "?";
 }
