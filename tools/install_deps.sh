@@ -12,8 +12,10 @@ build=(
   libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev nlohmann-json3-dev
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
   libmeshoptimizer-dev                               # tools/models/decimate-quadric (collision meshes)
+  libbullet-extras-dev libqhull-dev                  # tools/models/convex-decompose (HACD clusters, qhull hulls)
 )
-tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev)  # clang: sanitizers + libFuzzer
+tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
+       libccd-dev)                                                              # the convex CCD's GJK oracle
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
 
