@@ -1,0 +1,157 @@
+// The CCD of convex-piece sets against an independent truth: 1000 random screw motions
+// of one bunny-as-pieces past another, each sampled 1000 times with libccd's GJK
+// intersection test of every piece pair (and the hulls' exact triangle test), the first
+// intersecting sample bisected to 1e-10. The contract of the mesh query holds for the pieces: no miss, never late, at
+// most the tolerance early.
+#include <gtest/gtest.h>
+
+#include <ccd/ccd.h>
+
+#include <cstdio>
+#include <random>
+
+#include "simulator/collision/collision_mesh.hpp"
+#include "simulator/collision/convex_manifold.hpp"
+#include "simulator/collision/shape_query.hpp"
+#include "tests/support/toi_checks.hpp"
+
+namespace arphys::collision {
+namespace {
+
+using geometry::Pose;
+using geometry::ScrewMotion;
+using testing::kStill;
+
+struct PlacedPiece {
+  const ConvexPiece* piece;
+  Pose X_WP;
+};
+
+void support(const void* object, const ccd_vec3_t* direction, ccd_vec3_t* out) {
+  const auto* p = static_cast<const PlacedPiece*>(object);
+  const Eigen::Vector3d d_W(direction->v[0], direction->v[1], direction->v[2]);
+  const Eigen::Vector3d v = p->X_WP * p->piece->vertices_m()[p->piece->support(p->X_WP.linear().transpose() * d_W)];
+  ccdVec3Set(out, v.x(), v.y(), v.z());
+}
+
+ccd_t gjk() {
+  ccd_t ccd;
+  CCD_INIT(&ccd);
+  ccd.support1 = support;
+  ccd.support2 = support;
+  ccd.max_iterations = 1000;
+  ccd.epa_tolerance = 1e-12;
+  return ccd;
+}
+
+// libccd's GJK over every pair of pieces whose balls meet, and the exact triangle test of
+// the hulls: libccd's GJK misses some shallow crossings of nearly parallel faces that
+// the triangles show (one in these 1000 motions, 10 um deep).
+bool sets_intersect(const ConvexSet& A, const Pose& X_WA, const ConvexSet& B, const Pose& X_WB) {
+  if (intersects(*A.hulls, X_WA, *B.hulls, X_WB)) return true;
+  ccd_t ccd = gjk();
+  for (const ConvexPiece& a : A.pieces)
+    for (const ConvexPiece& b : B.pieces) {
+      if ((X_WA * a.centroid_m() - X_WB * b.centroid_m()).norm() > a.radius_m() + b.radius_m()) continue;
+      const PlacedPiece pa{&a, X_WA}, pb{&b, X_WB};
+      if (ccdGJKIntersect(&pa, &pb, &ccd)) return true;
+    }
+  return false;
+}
+
+// The deepest penetration of any piece pair (libccd's EPA), 0 where none overlap.
+double penetration_m(const ConvexSet& A, const Pose& X_WA, const ConvexSet& B, const Pose& X_WB) {
+  ccd_t ccd = gjk();
+  double deepest = 0;
+  for (const ConvexPiece& a : A.pieces)
+    for (const ConvexPiece& b : B.pieces) {
+      const PlacedPiece pa{&a, X_WA}, pb{&b, X_WB};
+      ccd_real_t depth = 0;
+      ccd_vec3_t direction, position;
+      if (ccdGJKPenetration(&pa, &pb, &ccd, &depth, &direction, &position) == 0) deepest = std::max(deepest, depth);
+    }
+  return deepest;
+}
+
+struct Truth {
+  bool hit = false;
+  double toi = 1;
+};
+
+Truth sampled_truth(const ConvexSet& A, const ConvexSet& B, const ScrewMotion& motion, int samples) {
+  double free_t = 0;
+  for (int k = 1; k <= samples; ++k) {
+    const double t = static_cast<double>(k) / samples;
+    if (!sets_intersect(A, Pose::Identity(), B, motion.pose_at(t))) {
+      free_t = t;
+      continue;
+    }
+    double lo = free_t, hi = t;
+    while (hi - lo > 1e-10) {
+      const double mid = 0.5 * (lo + hi);
+      (sets_intersect(A, Pose::Identity(), B, motion.pose_at(mid)) ? hi : lo) = mid;
+    }
+    return {true, hi};
+  }
+  return {};
+}
+
+TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
+  const auto set = load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
+                                   Eigen::Vector3d::Constant(0.8));
+  const Shape bunny = Shape::convex_set(set);
+  std::mt19937 rng(2027);
+  std::uniform_real_distribution<double> u(-0.1, 0.1), angle(0, M_PI / 2);
+  std::normal_distribution<double> normal;
+  ContinuousOptions options;
+  options.time_tolerance = 1e-6;  // the simulator's
+  int tested = 0, hits = 0, grazing = 0, late_by_gjk = 0;
+  double worst_early = 0;
+  while (tested < 1000) {
+    Pose X0 = Pose::Identity(), X1 = Pose::Identity();
+    X0.linear() = Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix();
+    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    X1.linear() = Eigen::AngleAxisd(angle(rng), axis) * X0.linear();
+    X0.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    X1.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    if (sets_intersect(*set, Pose::Identity(), *set, X0) || sets_intersect(*set, Pose::Identity(), *set, X1)) continue;
+    ++tested;
+    const ScrewMotion motion(X0, X1);
+    const ContinuousResult ours = time_of_impact(bunny, kStill, bunny, motion, options);
+    const Truth truth = sampled_truth(*set, *set, motion, 1000);
+    if (truth.hit) {
+      ++hits;
+      ASSERT_TRUE(ours.collides) << "motion " << tested << " missed (truth " << truth.toi << ")";
+      // libccd decides contact to sqrt(DBL_EPSILON) = 1.5e-8 m: its GJK calls pieces that
+      // close intersecting, so its truth can be a little early. A time of impact after
+      // it is late only where the pieces overlap there by more than that (EPA's depth).
+      if (ours.time_of_impact > truth.toi + 1e-9) {
+        EXPECT_LT(penetration_m(*set, Pose::Identity(), *set, motion.pose_at(ours.time_of_impact)), 3e-8)
+            << "motion " << tested << " late: " << ours.time_of_impact << " after " << truth.toi;
+      }
+      late_by_gjk += ours.time_of_impact > truth.toi + 1e-9;
+      // Earlier than the tolerance only at a touch the samples stepped over (a graze
+      // before the contact they found): the pieces must meet there.
+      if (ours.time_of_impact < truth.toi - 1e-6 - 1e-9) {
+        ++grazing;
+        EXPECT_TRUE(sets_intersect(*set, Pose::Identity(), *set, motion.pose_at(ours.time_of_impact + 1e-5)))
+            << "motion " << tested << " early: " << ours.time_of_impact << " before " << truth.toi;
+      } else {
+        worst_early = std::max(worst_early, truth.toi - ours.time_of_impact);
+      }
+    } else if (ours.collides) {
+      // A touch between two samples that never goes deeper: the pieces must be touching
+      // at the reported time.
+      ++grazing;
+      const auto at_toi = contact_manifold(bunny, Pose::Identity(), bunny, motion.pose_at(ours.time_of_impact), 1e-5);
+      EXPECT_FALSE(at_toi.empty()) << "motion " << tested << ": a hit at " << ours.time_of_impact << " with nothing near";
+    }
+  }
+  std::printf("convex CCD: %d motions, %d hits (%d after GJK's touching tolerance, none overlapping), %d grazing, "
+              "worst early %.2e (tolerance 1e-6)\n", tested, hits, late_by_gjk, grazing, worst_early);
+  EXPECT_GT(hits, 150);
+  EXPECT_LE(grazing, 10);
+}
+
+}  // namespace
+}  // namespace arphys::collision
