@@ -148,12 +148,12 @@ layers 0.35 m apart, each turned by up to 0.3 rad about a random axis (splitmix6
                         quat_axis_angle(axis, angle))
         write("drop%d" % count, text)
 
-    for count in (20, 100):
+    for count in (20, 100, 300):
         rng = SplitMix64(2002)
         text = header("bunnies%d" % count, """
-Scene 7 (the paper's application 2): %d virtual Stanford bunnies (1,200 triangles, 0.2 kg)
-spawned above a real table; they fall, roll and bounce off a real box that the tracker
-moves across the table and back.""" % count, 0.01)
+Scene 7 (the paper's application 2): %d virtual Stanford bunnies (10 convex pieces, 0.2 kg,
+friction 0.5 as in the main job) spawned above a real table; they fall, pile up, roll and
+bounce off a real box that the tracker moves across the table and back.""" % count, 0.01)
         text += ("  - id: table\n    role: real\n    motion: static\n    collision: {shape: box, size_m: [1.2, 0.8, 0.04]}\n"
                  "    pose: %s\n    restitution: 0.3\n" % pose([0, 0, -0.02]))
         text += ("  - id: box\n    role: real\n    motion: kinematic\n    collision: {shape: box, size_m: [0.15, 0.15, 0.15]}\n"
@@ -161,10 +161,12 @@ moves across the table and back.""" % count, 0.01)
                  "      - {t_s: 0.0, pose: %s}\n      - {t_s: 2.0, pose: %s}\n      - {t_s: 4.0, pose: %s}\n"
                  % (pose([0.45, 0, 0.0755]), pose([-0.45, 0, 0.0755]), pose([0.45, 0, 0.0755])))
         text += ("  - id: bunny\n    role: virtual\n    motion: dynamic\n"
-                 "    collision: {shape: mesh, mesh: ../models/stanford-bunny-1k-quadric.obj, scale: 0.8}"
-                 "  # as close to the scan as the 5k mesh at rest, at half its cost (docs/EVALUATION.md)\n"
+                 "    # the 1k quadric mesh's convex pieces (configs/models/README.md), its mass properties\n"
+                 "    collision: {shape: convex_set, pieces: ../models/stanford-bunny-1k-quadric.pieces.obj,\n"
+                 "                mesh: ../models/stanford-bunny-1k-quadric.obj, scale: 0.8}\n"
                  "    render: {shape: mesh, mesh: ../models/stanford-bunny-1k.obj, scale: 0.8}  # drawn small: 1k triangles suffice\n"
-                 "    mass_kg: 0.2\n    restitution: 0.4\n    spawn:\n      max_instances: %d\n      at_start:\n" % count)
+                 "    mass_kg: 0.2\n    restitution: 0.4\n    friction: 0.5\n"
+                 "    spawn:\n      max_instances: %d\n      at_start:\n" % count)
         for i in range(count):
             col, row, layer = i % 5, (i // 5) % 4, i // 20
             # (0.13 m: from 0.12, the bunny spawned at (0.4, 0.1) started 3.6 mm inside the box,
