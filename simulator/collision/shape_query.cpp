@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "simulator/collision/box_box_manifold.hpp"
+#include "simulator/collision/convex_advancement.hpp"
 #include "simulator/collision/convex_manifold.hpp"
 #include "simulator/collision/feature_toi.hpp"
 #include "simulator/collision/screw_enclosure.hpp"
@@ -324,7 +325,13 @@ ContinuousResult time_of_impact(const Shape& A, const ScrewMotion& motion_A, con
       if (B.type() == Shape::Type::kBox && boxes_stay_apart(0.5 * A.size_m(), motion_A, 0.5 * B.size_m(), motion_B)) break;
       [[fallthrough]];
     case Shape::Type::kMesh:
-    case Shape::Type::kConvexSet:  // swept as its pieces' hulls: their first touch is the set's
+    case Shape::Type::kConvexSet:
+      // Pieces against pieces (or a box) advance conservatively, then sweep their hulls;
+      // against anything else a set is its hulls' mesh: their first touch is the set's.
+      if (A.convex() && B.convex() && !(A.type() == Shape::Type::kBox && B.type() == Shape::Type::kBox)) {
+        result = convex_sets_time_of_impact(*A.convex(), motion_A, *B.convex(), motion_B, options);
+        break;
+      }
       result = B.type() == Shape::Type::kSphere
                    ? mesh_vs_sphere(*A.triangles(), motion_A, B.radius_m(), motion_B, options)
                    : time_of_impact(*A.triangles(), motion_A, *B.triangles(), motion_B, options);
