@@ -19,12 +19,18 @@ constexpr double kSmallestStep = 0.02;
 // A distance bound that proves two pieces apart whatever the rounding of its computation.
 constexpr double kApart_m = 1e-12;
 
-// A bound on the speed (metres per unit of t) of every point of the piece on its body's
-// screw: the speed of its centre, which stays the same along the motion, and the turn of
-// the farthest point about it.
-double point_speed_bound(const ConvexPiece& piece, const ScrewMotion& motion) {
-  const Eigen::Vector3d centre_W = motion.start() * piece.centroid_m();
-  return (motion.velocity_of_point(centre_W).norm() + motion.angle_rad() * piece.radius_m()) * (1 + 1e-12);
+// A bound on how fast the two pieces' points can close in on each other from t to the end
+// (metres per unit of t): the relative velocity of their centres at t, what it can change by
+// until the end (a centre on a screw keeps its speed and turns at the screw's rate), and the
+// turn of each piece's farthest point about its centre. Bodies moving together (a pile
+// shoved along) close slowly whatever their speed.
+double closing_speed_bound(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b,
+                           const ScrewMotion& motion_B, double t) {
+  const Eigen::Vector3d v_a = motion_A.velocity_of_point(motion_A.pose_at(t) * a.centroid_m());
+  const Eigen::Vector3d v_b = motion_B.velocity_of_point(motion_B.pose_at(t) * b.centroid_m());
+  const double turn_of_velocity = motion_A.angle_rad() * v_a.norm() + motion_B.angle_rad() * v_b.norm();
+  const double spin = motion_A.angle_rad() * a.radius_m() + motion_B.angle_rad() * b.radius_m();
+  return ((v_b - v_a).norm() + turn_of_velocity * (1 - t) + spin) * (1 + 1e-12) + 1e-300;
 }
 
 // The motion from t to 1 of a screw: the same path, its parameter stretched.
@@ -35,10 +41,10 @@ ScrewMotion rest_of(const ScrewMotion& motion, double t) { return ScrewMotion(mo
 // proven apart (not just not touching) there.
 double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b, const ScrewMotion& motion_B,
                bool* apart_there) {
-  const double speed = point_speed_bound(a, motion_A) + point_speed_bound(b, motion_B);
   double t = 0;
   *apart_there = false;
   for (int step = 0; step < kMaxSteps; ++step) {
+    const double speed = closing_speed_bound(a, motion_A, b, motion_B, t);
     const double reach = speed * (1 - t);
     const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), reach);
     *apart_there = d.lower_m > kApart_m;
@@ -57,7 +63,7 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
   bool apart_there = true;  // every pair left at free_until is proven apart there
   for (const ConvexPiece& a : A.pieces)
     for (const ConvexPiece& b : B.pieces) {
-      const double speed = point_speed_bound(a, motion_A) + point_speed_bound(b, motion_B);
+      const double speed = closing_speed_bound(a, motion_A, b, motion_B, 0);
       const double ball_gap = (motion_B.start() * b.centroid_m() - motion_A.start() * a.centroid_m()).norm() -
                               a.radius_m() - b.radius_m();
       if (ball_gap > speed + kApart_m) continue;  // their balls cannot meet

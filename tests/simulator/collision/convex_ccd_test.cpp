@@ -1,5 +1,5 @@
 // The CCD of convex-piece sets against an independent truth: 1000 random screw motions
-// of one bunny-as-pieces past another, each sampled 1000 times with libccd's GJK
+// of one bunny-as-pieces past another (every other one with both carried along together), each sampled 1000 times with libccd's GJK
 // intersection test of every piece pair (and the hulls' exact triangle test), the first
 // intersecting sample bisected to 1e-10. The contract of the mesh query holds for the pieces: no miss, never late, at
 // most the tolerance early.
@@ -13,14 +13,12 @@
 #include "simulator/collision/collision_mesh.hpp"
 #include "simulator/collision/convex_manifold.hpp"
 #include "simulator/collision/shape_query.hpp"
-#include "tests/support/toi_checks.hpp"
 
 namespace arphys::collision {
 namespace {
 
 using geometry::Pose;
 using geometry::ScrewMotion;
-using testing::kStill;
 
 struct PlacedPiece {
   const ConvexPiece* piece;
@@ -78,18 +76,19 @@ struct Truth {
   double toi = 1;
 };
 
-Truth sampled_truth(const ConvexSet& A, const ConvexSet& B, const ScrewMotion& motion, int samples) {
+Truth sampled_truth(const ConvexSet& A, const ScrewMotion& motion_A, const ConvexSet& B, const ScrewMotion& motion,
+                    int samples) {
   double free_t = 0;
   for (int k = 1; k <= samples; ++k) {
     const double t = static_cast<double>(k) / samples;
-    if (!sets_intersect(A, Pose::Identity(), B, motion.pose_at(t))) {
+    if (!sets_intersect(A, motion_A.pose_at(t), B, motion.pose_at(t))) {
       free_t = t;
       continue;
     }
     double lo = free_t, hi = t;
     while (hi - lo > 1e-10) {
       const double mid = 0.5 * (lo + hi);
-      (sets_intersect(A, Pose::Identity(), B, motion.pose_at(mid)) ? hi : lo) = mid;
+      (sets_intersect(A, motion_A.pose_at(mid), B, motion.pose_at(mid)) ? hi : lo) = mid;
     }
     return {true, hi};
   }
@@ -114,11 +113,21 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
     X1.linear() = Eigen::AngleAxisd(angle(rng), axis) * X0.linear();
     X0.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
     X1.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    if (sets_intersect(*set, Pose::Identity(), *set, X0) || sets_intersect(*set, Pose::Identity(), *set, X1)) continue;
+    // Every other motion carries both bodies along (a pile shoved together): A drifts up to
+    // 0.4 m and turns up to 0.3 rad, and B's end pose is taken along with it.
+    Pose Y1 = Pose::Identity();
+    if (tested % 2 == 1) {
+      Y1 = geometry::rotation_pose(Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized(),
+                                   0.3 * angle(rng) / (M_PI / 2));
+      Y1.translation() = 2 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+      X1 = Y1 * X1;
+    }
+    const ScrewMotion motion_A(Pose::Identity(), Y1);
+    if (sets_intersect(*set, Pose::Identity(), *set, X0) || sets_intersect(*set, Y1, *set, X1)) continue;
     ++tested;
     const ScrewMotion motion(X0, X1);
-    const ContinuousResult ours = time_of_impact(bunny, kStill, bunny, motion, options);
-    const Truth truth = sampled_truth(*set, *set, motion, 1000);
+    const ContinuousResult ours = time_of_impact(bunny, motion_A, bunny, motion, options);
+    const Truth truth = sampled_truth(*set, motion_A, *set, motion, 1000);
     if (truth.hit) {
       ++hits;
       ASSERT_TRUE(ours.collides) << "motion " << tested << " missed (truth " << truth.toi << ")";
@@ -126,7 +135,7 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
       // close intersecting, so its truth can be a little early. A time of impact after
       // it is late only where the pieces overlap there by more than that (EPA's depth).
       if (ours.time_of_impact > truth.toi + 1e-9) {
-        EXPECT_LT(penetration_m(*set, Pose::Identity(), *set, motion.pose_at(ours.time_of_impact)), 3e-8)
+        EXPECT_LT(penetration_m(*set, motion_A.pose_at(ours.time_of_impact), *set, motion.pose_at(ours.time_of_impact)), 3e-8)
             << "motion " << tested << " late: " << ours.time_of_impact << " after " << truth.toi;
       }
       late_by_gjk += ours.time_of_impact > truth.toi + 1e-9;
@@ -134,7 +143,8 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
       // before the contact they found): the pieces must meet there.
       if (ours.time_of_impact < truth.toi - 1e-6 - 1e-9) {
         ++grazing;
-        EXPECT_TRUE(sets_intersect(*set, Pose::Identity(), *set, motion.pose_at(ours.time_of_impact + 1e-5)))
+        EXPECT_TRUE(sets_intersect(*set, motion_A.pose_at(ours.time_of_impact + 1e-5), *set,
+                                   motion.pose_at(ours.time_of_impact + 1e-5)))
             << "motion " << tested << " early: " << ours.time_of_impact << " before " << truth.toi;
       } else {
         worst_early = std::max(worst_early, truth.toi - ours.time_of_impact);
@@ -143,7 +153,8 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
       // A touch between two samples that never goes deeper: the pieces must be touching
       // at the reported time.
       ++grazing;
-      const auto at_toi = contact_manifold(bunny, Pose::Identity(), bunny, motion.pose_at(ours.time_of_impact), 1e-5);
+      const auto at_toi =
+          contact_manifold(bunny, motion_A.pose_at(ours.time_of_impact), bunny, motion.pose_at(ours.time_of_impact), 1e-5);
       EXPECT_FALSE(at_toi.empty()) << "motion " << tested << ": a hit at " << ours.time_of_impact << " with nothing near";
     }
   }
