@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "simulator/collision/convex_distance.hpp"
 #include "simulator/collision/triangle_distance.hpp"
 
 namespace arphys::collision {
@@ -141,6 +142,9 @@ std::vector<Eigen::Vector3d> clip_to_half_space(const std::vector<Eigen::Vector3
 
 void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_WA, const ConvexPiece& B, int index_B,
                      const geometry::Pose& X_WB, double tolerance_m, std::vector<ManifoldPoint>* points) {
+  // Most pairs whose balls come within the tolerance are further apart: a few GJK support
+  // searches prove it before every face and edge pair is tested.
+  if (convex_distance(A, X_WA, B, X_WB, tolerance_m).lower_m > tolerance_m) return;
   const Placed a(A, geometry::Pose::Identity());
   const Placed b(B, X_WA.inverse() * X_WB);
   const auto [gap_A, face_A] = best_face(a, b, tolerance_m);
