@@ -19,7 +19,8 @@ fi
 # the files of a target share no file-local name and that each file includes what it uses.
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DCMAKE_UNITY_BUILD=OFF >/dev/null
-unit_tests=(geometry_test config_test msg_test collision_test dynamics_test sim_process_test tracking_test rendering_test)
+unit_tests=(geometry_test config_test msg_test collision_test convex_ccd_test dynamics_test sim_process_test tracking_test
+            rendering_test)
 fuzzers=(fuzz_messages fuzz_configs fuzz_mesh fuzz_ccd_query)
 cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp"

@@ -27,6 +27,7 @@
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/memory_policy.hpp"
 #include "simulator/dynamics/scene_world.hpp"
+#include "tools/dyn_bench/bunnies_peers.hpp"
 #include "tools/dyn_bench/engine.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
 
@@ -457,7 +458,7 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
 
 int main(int argc, char** argv) {
   CLI::App app{"arphys dynamics benchmark against Bullet 3.24, ODE 0.16 and MuJoCo 2.2.2 on the scenes of the dynamics issue."};
-  std::vector<std::string> scenes{"stack", "push", "drop", "anchor-pile", "bunnies"};
+  std::vector<std::string> scenes{"stack", "push", "drop", "anchor-pile", "bunnies", "bunnies-peers"};
   std::vector<std::string> engines = all_engines();
   std::string out = ".";
   bool quick = false;
@@ -508,6 +509,9 @@ int main(int argc, char** argv) {
       } else if (scene == "bunnies") {
         Csv csv(out + "/dyn_bunnies.csv", "scene,bodies,ms_per_step,real_time_factor,impacts,simulated_s,run,crossed_pair_steps,waited_steps,in_fixed_pair_steps");
         run_bunnies(ARPHYS_SOURCE_DIR "/configs", quick ? 0.5 : 3.0, bunny_runs > 0 ? bunny_runs : (quick ? 1 : 3), csv);
+      } else if (scene == "bunnies-peers") {
+        Csv csv(out + "/dyn_bunnies_peers.csv", "scene,engine,ms_per_step,real_time_factor,deepest_overlap_mm,simulated_s");
+        run_bunnies_peers(ARPHYS_SOURCE_DIR "/configs", quick ? 0.3 : 3.0, csv.out);
       } else {
         std::fprintf(stderr, "unknown scene '%s'\n", scene.c_str());
         return 2;

@@ -1,21 +1,10 @@
 #include <btBulletDynamicsCommon.h>
 
+#include "tools/dyn_bench/bullet_poses.hpp"
 #include "tools/dyn_bench/engine.hpp"
 
 namespace arphys::dyn_bench {
 namespace {
-
-btTransform to_bt(const Eigen::Isometry3d& X) {
-  const Eigen::Quaterniond q(X.linear());
-  return btTransform(btQuaternion(q.x(), q.y(), q.z(), q.w()), btVector3(X.translation().x(), X.translation().y(), X.translation().z()));
-}
-Eigen::Isometry3d from_bt(const btTransform& T) {
-  const btQuaternion q = T.getRotation();
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.linear() = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).toRotationMatrix();
-  X.translation() = Eigen::Vector3d(T.getOrigin().x(), T.getOrigin().y(), T.getOrigin().z());
-  return X;
-}
 
 // Bullet 3.24 as the anchor ran it: sequential impulses, 10 iterations, split impulse,
 // no deactivation; friction and restitution are multiplied per pair, so each object
