@@ -1,6 +1,8 @@
 #include "simulator/collision/convex_piece.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -171,6 +173,8 @@ std::shared_ptr<const ConvexSet> make_convex_set(std::vector<ConvexPiece> pieces
     for (const Eigen::Vector3i& t : piece.hull().triangles) all.triangles.push_back(t.array() + base);
   }
   auto set = std::make_shared<ConvexSet>();
+  set->half_thickness_m = std::numeric_limits<double>::infinity();
+  for (const ConvexPiece& piece : pieces) set->half_thickness_m = std::min(set->half_thickness_m, piece.half_thickness_m());
   set->pieces = std::move(pieces);
   // Each vertex and edge tested once, as for a box: the pieces' depths are measured by
   // their separating axes, which catch what a touch culled at a motion's start leaves.

@@ -347,11 +347,7 @@ double World::max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const
     switch (body.shape.type()) {
       case collision::Shape::Type::kBox: return 0.5 * body.shape.size_m().minCoeff();
       case collision::Shape::Type::kSphere: return body.shape.radius_m();
-      case collision::Shape::Type::kConvexSet: {
-        double thinnest = std::numeric_limits<double>::infinity();
-        for (const auto& piece : body.shape.convex()->pieces) thinnest = std::min(thinnest, piece.half_thickness_m());
-        return thinnest;
-      }
+      case collision::Shape::Type::kConvexSet: return body.shape.convex()->half_thickness_m;
       default: return std::numeric_limits<double>::infinity();
     }
   };

@@ -2,6 +2,7 @@
 // refused with the file, the piece and the reason.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -46,9 +47,10 @@ TEST(ConvexPiece, BoxHasSixFacesTwelveEdgesAndItsThickness) {
 TEST(ConvexPiece, ShippedBunnyPiecesArePolyhedra) {
   const auto set = load_convex_set(kBunnyPieces, Eigen::Vector3d::Constant(0.8));
   ASSERT_EQ(set->pieces.size(), 10u);
-  double volume = 0;
+  double volume = 0, thinnest = 1;
   for (const ConvexPiece& piece : set->pieces) {
     EXPECT_GT(piece.half_thickness_m(), 1e-3);
+    thinnest = std::min(thinnest, piece.half_thickness_m());
     EXPECT_GE(piece.faces().size(), 4u);
     // Euler's formula for a convex polyhedron's faces, edges and vertices.
     EXPECT_EQ(piece.vertices_m().size() + piece.faces().size(), piece.edges().size() + 2);
@@ -57,6 +59,7 @@ TEST(ConvexPiece, ShippedBunnyPiecesArePolyhedra) {
   // The scaled bunny is about 0.12 m across; its pieces hold about its volume.
   EXPECT_GT(volume, 2e-4);
   EXPECT_LT(volume, 6e-4);
+  EXPECT_EQ(set->half_thickness_m, thinnest);
   EXPECT_TRUE(set->hulls->closed());
   EXPECT_EQ(set->hulls->mesh().num_vertices(), 297u);
 }
