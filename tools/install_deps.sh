@@ -13,6 +13,7 @@ build=(
   libopencv-dev libopencv-contrib-dev libapriltag-dev libosmesa6-dev
   libmeshoptimizer-dev                               # tools/models/decimate-quadric (collision meshes)
   libbullet-extras-dev libqhull-dev                  # tools/models/convex-decompose (HACD clusters, qhull hulls)
+  libtbb-dev                                         # the simulator's worker threads (--threads)
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
        libccd-dev)                                                              # the convex CCD's GJK oracle

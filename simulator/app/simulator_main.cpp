@@ -217,6 +217,10 @@ int main(int argc, char** argv) {
                  "dropped_time_s). 0: never (a replay is then the same on every run)")
       ->check(CLI::Range(0.0, 3600.0))
       ->capture_default_str();
+  app.add_option("--threads", options.threads,
+                 "worker threads of the step's collision queries (the world states are the same for any number)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
   std::string state_file;
   app.add_option("--state-file", state_file,
                  "keep the last world state here (replaced 5 times a second); when the file exists at start, resume "

@@ -111,8 +111,10 @@ RigidBody make_instance(const config::ObjectConfig& object, const std::string& i
   return body;
 }
 
-World build_world(const config::SceneConfig& scene) {
-  World world(world_options_of(scene));
+World build_world(const config::SceneConfig& scene, int threads) {
+  WorldOptions options = world_options_of(scene);
+  options.threads = threads;
+  World world(options);
   for (const config::ObjectConfig& object : scene.objects) {
     if (object.motion == config::Motion::kDynamic) {
       if (object.spawn_at_start.empty()) {

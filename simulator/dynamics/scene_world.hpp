@@ -24,7 +24,8 @@ WorldOptions world_options_of(const config::SceneConfig& scene);
 
 // The bodies of the scene: one per static or kinematic object (id = object id), and
 // per dynamic object one body, or one per spawn.at_start entry (ids "id#0", "id#1", ...).
-World build_world(const config::SceneConfig& scene);
+// threads: WorldOptions::threads (a property of the run, not of the scene).
+World build_world(const config::SceneConfig& scene, int threads = 1);
 
 // A body for one instance of a dynamic object at a pose and velocity (origin velocity).
 RigidBody make_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,

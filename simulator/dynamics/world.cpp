@@ -79,6 +79,8 @@ void check_options(const WorldOptions& o) {
   non_negative("launch_guard_slack_m_s", o.launch_guard_slack_m_s);
   if (!(o.max_body_speed_m_s > 0)) fail("max_body_speed_m_s", o.max_body_speed_m_s, "a positive number (may be infinite)");
   at_least("max_contacts_per_pair", o.max_contacts_per_pair, 1);
+  at_least("threads", o.threads, 1);
+  if (o.threads > 256) fail("threads", o.threads, "at most 256");
   non_negative("sleep_after_s", o.sleep_after_s);
   non_negative("sleep_speed_m_s", o.sleep_speed_m_s);
   at_least("solver.iterations", o.solver.iterations, 1);
@@ -95,7 +97,7 @@ void check_options(const WorldOptions& o) {
 }  // namespace
 
 
-World::World(WorldOptions options) : options_(std::move(options)) { check_options(options_); }
+World::World(WorldOptions options) : options_((check_options(options), std::move(options))), pool_(options_.threads) {}
 
 bool World::known_apart(const std::map<std::pair<int, int>, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
                         const geometry::Pose& X_WB) {

@@ -43,6 +43,7 @@
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
 #include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/worker_pool.hpp"
 
 namespace arphys::dynamics {
 
@@ -96,6 +97,10 @@ struct WorldOptions {
   double sleep_after_s = 0;
   double sleep_speed_m_s = 0.01;
   ContactSolverOptions solver;
+  // Threads for the step's per-pair work (contact manifolds, sweeps and end checks of
+  // depth-measured pairs: boxes, spheres, planes, convex pieces); mesh pairs, the solves
+  // and the stepping stay on the calling thread. The result does not depend on it.
+  int threads = 1;
   // CCD settings; its work budget bounds a step's cost when meshes have sunk into each
   // other (the step is then cut where the CCD stopped, never past a contact).
   collision::ContinuousOptions ccd = [] {
@@ -245,6 +250,12 @@ class World {
                              ImpactCache& first_ccd, StepReport& report);
   // Contacts within contact_tolerance_m at the current poses, among the participants.
   std::vector<Contact> gather_contacts(const std::vector<int>& participants) const;
+  // A mesh pair's reduced manifold at the current poses, with the contact that pushes
+  // crossed surfaces apart (mesh_crossing_depth); updates the pair's memos.
+  std::vector<collision::ManifoldPoint> mesh_pair_features(int i, int j) const;
+  // Contacts of pair (i, j) at these features, with their warm-start hints from the last step.
+  void append_contacts(int i, int j, const std::vector<collision::ManifoldPoint>& features,
+                       std::vector<Contact>& contacts) const;
   // The meetings the CCD found in the step, as contacts at the current poses.
   std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
   // What a solve needs before the impacts are known: the unknowns (the dynamic
@@ -295,6 +306,24 @@ class World {
                          const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting, ImpactCache* cache,
                          bool* deepening, StepReport& report,
                          const std::vector<std::pair<int, int>>* swept_pairs = nullptr) const;
+  // One pair of earliest_impact: its slots, its cache entry, and how its motion is checked.
+  struct PairSweep {
+    int p = -1, q = -1;               // slots in the participants
+    CachedImpact* query = nullptr;
+    bool fresh = false;               // its motions changed since its entry was answered
+    bool apart_at_start = false, resting_slowly = false, swept_by_ccd = false;
+    double relative_motion_m = 0;
+  };
+  // earliest_impact's passes for a fresh pair: how it is checked (in order: reads the
+  // memos); its CCD and, for a depth-measured pair, its end check (any thread); then in
+  // order its counts, memos and, for a mesh pair, its end check.
+  void classify_sweep(PairSweep& sweep, const std::vector<int>& participants, double relative_motion_m, double curve_m,
+                      const std::vector<std::pair<int, int>>* resting_pairs) const;
+  void answer_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B) const;
+  void finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B,
+                    StepReport& report) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
   // Two meshes whose surfaces cross at their current poses (`manifold`: theirs, within
@@ -363,6 +392,7 @@ class World {
   double point_speed_m_s(int index) const;
 
   WorldOptions options_;
+  WorkerPool pool_;
   std::vector<RigidBody> bodies_;
   std::vector<double> radius_m_;  // bounding radius about each body origin
   // Sleeping (WorldOptions::sleep_after_s): how long each body has been quiet, and whether it sleeps.

@@ -59,64 +59,88 @@ std::vector<Contact> World::gather_contacts(const std::vector<int>& participants
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(participants.size());
   for (int i : participants) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i] + tolerance));
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
+    const RigidBody& a = bodies_[participants[p]];
+    const RigidBody& b = bodies_[participants[q]];
+    if (!a.is_dynamic() && !b.is_dynamic()) continue;
+    if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
+    pairs.emplace_back(participants[p], participants[q]);
+  }
+  // A depth-measured pair's manifold depends on its poses alone: on the worker threads,
+  // each into its own slot. Mesh pairs share memos (nearby_, apart_at_): in order, here.
+  std::vector<std::vector<collision::ManifoldPoint>> features(pairs.size());
+  pool_.for_each(static_cast<int>(pairs.size()), [&](int k) {
+    const RigidBody& a = bodies_[pairs[k].first];
+    const RigidBody& b = bodies_[pairs[k].second];
+    if (depth_measured(a, b))
+      features[k] = reduce_manifold(collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance),
+                                    options_.max_contacts_per_pair);
+  });
   std::vector<Contact> contacts;
   // (About as many as the last step had: grown from empty, a 1000-box pile's thousands of
   // contacts were copied a dozen times over.)
   contacts.reserve(participants.size() == bodies_.size() ? contacts_.size() + contacts_.size() / 4 : 0);
-  for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
-    const int i = participants[p], j = participants[q];
-    const RigidBody& a = bodies_[i];
-    const RigidBody& b = bodies_[j];
-    if (!a.is_dynamic() && !b.is_dynamic()) continue;
-    if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
-    collision::NearbyTrianglePairs* nearby = depth_measured(a, b) ? nullptr : nearby_pairs(i, j);
-    std::vector<collision::ManifoldPoint> manifold =
-        collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance, nearby);
-    std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options_.max_contacts_per_pair);
-    if (!depth_measured(a, b)) {
-      bool apart = false;
-      const bool placed = placed_since_step_[i] || placed_since_step_[j] || placed_crossing_.count({i, j});
-      // (Proven apart at these poses where the last step ended: see apart_at_end_.)
-      const bool ended_apart = known_apart(apart_at_last_end_, i, j, a.X_WB, b.X_WB);
-      const auto crossing =
-          ended_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
-      apart |= ended_apart;
-      if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
-      if (crossing && placed) {
-        placed_crossing_.insert({i, j});
-      } else if (!crossing) {
-        placed_crossing_.erase({i, j});
-      }
-      if (crossing) {
-        // The crossing features' normals point to the side their vertex is on, which for
-        // a vertex gone through is the wrong one: such rows held the pair crossed (the
-        // push out was infeasible against them). Those opposing the way out are dropped.
-        features.erase(std::remove_if(features.begin(), features.end(),
-                                      [&](const auto& f) { return f.normal_W.dot(crossing->normal_W) < 0; }),
-                       features.end());
-        features.push_back(*crossing);
-      }
-    }
-    const std::pair<int, int> key{std::min(i, j), std::max(i, j)};
-    const auto pushed = std::lower_bound(pushed_before_.begin(), pushed_before_.end(), key,
-                                         [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
-    const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
-                                       [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
-    for (const auto& feature : features) {
-      Contact contact{i, j, feature, 0.0};
-      const Eigen::Vector3d point_W = row_point(feature);
-      for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
-        contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
-      double nearest_m = tolerance;
-      for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
-        if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {
-          nearest_m = d;
-          contact.warm_force_W_N = it->force_W_N;
-        }
-      contacts.push_back(contact);
-    }
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [i, j] = pairs[k];
+    if (!depth_measured(bodies_[i], bodies_[j])) features[k] = mesh_pair_features(i, j);
+    append_contacts(i, j, features[k], contacts);
   }
   return contacts;
+}
+
+std::vector<collision::ManifoldPoint> World::mesh_pair_features(int i, int j) const {
+  const RigidBody& a = bodies_[i];
+  const RigidBody& b = bodies_[j];
+  collision::NearbyTrianglePairs* nearby = nearby_pairs(i, j);
+  const std::vector<collision::ManifoldPoint> manifold =
+      collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, options_.contact_tolerance_m, nearby);
+  std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options_.max_contacts_per_pair);
+  bool apart = false;
+  const bool placed = placed_since_step_[i] || placed_since_step_[j] || placed_crossing_.count({i, j});
+  // (Proven apart at these poses where the last step ended: see apart_at_end_.)
+  const bool ended_apart = known_apart(apart_at_last_end_, i, j, a.X_WB, b.X_WB);
+  const auto crossing = ended_apart ? std::nullopt : mesh_crossing_depth(a, b, manifold, &apart, nearby, placed);
+  apart |= ended_apart;
+  if (apart) apart_at_[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
+  if (crossing && placed) {
+    placed_crossing_.insert({i, j});
+  } else if (!crossing) {
+    placed_crossing_.erase({i, j});
+  }
+  if (crossing) {
+    // The crossing features' normals point to the side their vertex is on, which for
+    // a vertex gone through is the wrong one: such rows held the pair crossed (the
+    // push out was infeasible against them). Those opposing the way out are dropped.
+    features.erase(std::remove_if(features.begin(), features.end(),
+                                  [&](const auto& f) { return f.normal_W.dot(crossing->normal_W) < 0; }),
+                   features.end());
+    features.push_back(*crossing);
+  }
+  return features;
+}
+
+void World::append_contacts(int i, int j, const std::vector<collision::ManifoldPoint>& features,
+                            std::vector<Contact>& contacts) const {
+  const double tolerance = options_.contact_tolerance_m;
+  const std::pair<int, int> key{std::min(i, j), std::max(i, j)};
+  const auto pushed = std::lower_bound(pushed_before_.begin(), pushed_before_.end(), key,
+                                       [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
+  const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
+                                     [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
+  for (const auto& feature : features) {
+    Contact contact{i, j, feature, 0.0};
+    const Eigen::Vector3d point_W = row_point(feature);
+    for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
+      contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
+    double nearest_m = tolerance;
+    for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
+      if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {
+        nearest_m = d;
+        contact.warm_force_W_N = it->force_W_N;
+      }
+    contacts.push_back(contact);
+  }
 }
 
 std::optional<collision::ManifoldPoint> World::mesh_crossing_depth(const RigidBody& a, const RigidBody& b,

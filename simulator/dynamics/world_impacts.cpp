@@ -91,8 +91,15 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     last = it;
     return it->second;
   };
-  double earliest = 1.0;
-  for (const auto& [p, q] : swept_pairs ? *swept_pairs : own) {
+  // Three passes: which pairs need a new answer (in order: the cache and the memos), the
+  // answers of depth-measured pairs and every pair's CCD (on the worker threads, each into
+  // its own entry), then in order again the mesh pairs' end checks and the step's answer.
+  const std::vector<std::pair<int, int>>& pairs = swept_pairs ? *swept_pairs : own;
+  std::vector<PairSweep> sweeps;
+  sweeps.reserve(pairs.size());
+  std::vector<CachedImpact> uncached;  // the entries when there is no cache
+  uncached.reserve(cache ? 0 : pairs.size());
+  for (const auto& [p, q] : pairs) {
     const int i = participants[p], j = participants[q];
     const RigidBody& a = bodies_[i];
     const RigidBody& b = bodies_[j];
@@ -104,82 +111,27 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     // the gap (0.5 um) inside each other.
     const double relative_motion_m = (shift[q] - shift[p]).norm() + turn[p] + turn[q];
     if (relative_motion_m < 0.5 * options_.contact_gap_m) continue;
-    // A resting pair (constraints of the step already) whose points move less than
-    // max_unswept_motion_m relative to each other is held by its contacts, and its motion
-    // checked at the end like a touching pair's: a point that ends outside the other
-    // body and moved less than that can have been at most half of it inside in between
-    // (a box clipping another's corner), which matters only where the step is cut
-    // mid-motion (unswept_clear_fraction). The CCD of such
-    // pairs (surfaces 1 um apart, edges nearly parallel) took thousands of search nodes
-    // and cut steps at times of impact of 1e-6: most of a 1000-box pile's step.
-    // Primitives are checked by their contact manifolds, which measure depth exactly. A
-    // mesh pair (a mesh's manifold can miss a vertex that went in: a bunny dropped 2 cm
-    // onto a table then sank 0.6 mm) is checked by whether its surfaces cross at the end
-    // (check_mesh_crossing), so only when the contact pass found them apart at these
-    // start poses: in a pile of 16 resting bunnies the CCD of such pairs, 250-400 queries
-    // a frame, was 40 % of the live simulator's time and put it seconds behind the camera.
-    const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
     // A re-solve changes the motions of the island it touches only; every other pair's
     // motions, and so its answer, are as in the last round.
-    CachedImpact fresh;
-    CachedImpact& query = cache ? cached(i, j) : fresh;
-    if (!query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) {
-      const bool apart_at_start = known_apart(apart_at_, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
-      const bool resting_slowly =
-          resting_pairs && ((primitive(a) && primitive(b)) || apart_at_start) &&
-          relative_motion_m <= max_unswept_motion_m(a, b) &&
-          std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
-      // Two bodies whose bounding boxes are further apart at the start than their points
-      // move relative to each other cannot meet in the step (in a tumbling pile, most of
-      // the pairs whose swept boxes overlap): proven without building their motions.
-      const bool far_apart = !resting_slowly && collision::gap_lower_bound_m(a.shape, a.X_WB, b.shape, b.X_WB) >
-                                                    relative_motion_m + curve[p] + curve[q] + kGapRounding_m;
-      const bool swept_by_ccd = !resting_slowly && !far_apart;
-      collision::ContinuousOptions ccd = options_.ccd;
-      ccd.apart_at_start = apart_at_start;
-      const double start_depth_m = query.start_depth_m;  // (-1 for a pair not asked before)
-      query = {true, next[p], next[q],
-               swept_by_ccd ? collision::time_of_impact(a.shape, motion_of(p), b.shape, motion_of(q), ccd)
-                            : collision::ContinuousResult{},
-               {}};
-      if (swept_by_ccd) ++report.ccd_queries;
-      const collision::ContinuousResult& r = query.result;
-      query.swept = !resting_slowly && !touching_at_start(r);
-      // Swept from apart without meeting: apart at the end (apart_at_end_).
-      if (query.swept && !r.collides && !depth_measured(a, b)) apart_at_end_[{i, j}] = {next[p], next[q]};
-      if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
-        // The meeting point as material points of both bodies, and A's normal there.
-        const geometry::Pose X_A = motion_of(p).pose_at(r.time_of_impact);
-        const geometry::Pose X_B = motion_of(q).pose_at(r.time_of_impact);
-        query.hits = {{X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W}};
-      }
-      if (resting_slowly || touching_at_start(r)) {
-        // Touching or overlapping already: the CCD cannot time a meeting of surfaces
-        // that meet at the start, and the contacts, linearised, let a turning body dig
-        // in (1e-5 m in a pile of 1000 boxes). So the end of the motion is checked:
-        // points deeper than overlap_tolerance_m (and than the pair was at the start)
-        // become constraints of a re-solve, as a CCD meeting would.
-        query.hits.clear();
-        if (depth_measured(a, b)) {
-          const double start_depth = query.start_depth_m =
-              start_depth_m >= 0 ? start_depth_m : deepest_overlap(i, a.X_WB, j, b.X_WB);
-          // (A tenth of the tolerance over the start depth keeps a pair that rounding
-          // deepens by nanometres from being cut into ever smaller steps, in which the
-          // depenetration speed can no longer undo anything.)
-          const double allowed = query.allowed_depth_m =
-              std::max(start_depth + 0.1 * options_.overlap_tolerance_m, options_.overlap_tolerance_m);
-          for (const auto& point : collision::contact_manifold(a.shape, next[p], b.shape, next[q], 0.0)) {
-            if (-point.distance_m <= allowed) continue;
-            query.hits.push_back({next[p].inverse() * point.point_A_W, next[q].inverse() * point.point_B_W,
-                                  next[p].linear().transpose() * point.normal_W, -point.distance_m});
-          }
-        } else if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
-          check_mesh_crossing(a, motion_of(p), b, motion_of(q), relative_motion_m, query, nearby_pairs(i, j));
-          if (query.free_until == 1) apart_at_end_[{i, j}] = {next[p], next[q]};
-        }
-        query.deepens = !query.hits.empty() || query.free_until < 1;
-      }
+    CachedImpact& query = cache ? cached(i, j) : uncached.emplace_back();
+    PairSweep sweep{p, q, &query};
+    sweep.fresh = !query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix();
+    if (sweep.fresh) {
+      classify_sweep(sweep, participants, relative_motion_m, curve[p] + curve[q], resting_pairs);
+      motion_of(p);
+      motion_of(q);
     }
+    sweeps.push_back(sweep);
+  }
+  pool_.for_each(static_cast<int>(sweeps.size()), [&](int k) {
+    PairSweep& sweep = sweeps[k];
+    if (sweep.fresh) answer_sweep(sweep, participants, next, *motions[sweep.p], *motions[sweep.q]);
+  });
+  double earliest = 1.0;
+  for (PairSweep& sweep : sweeps) {
+    const int i = participants[sweep.p], j = participants[sweep.q];
+    CachedImpact& query = *sweep.query;
+    if (sweep.fresh) finish_sweep(sweep, participants, next, *motions[sweep.p], *motions[sweep.q], report);
     if (query.deepens) {
       if (deepening) *deepening = true;
       if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
@@ -190,6 +142,105 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     if (meeting) (*meeting)[{i, j}].insert((*meeting)[{i, j}].end(), query.hits.begin(), query.hits.end());
   }
   return earliest;
+}
+
+void World::classify_sweep(PairSweep& sweep, const std::vector<int>& participants, double relative_motion_m,
+                           double curve_m, const std::vector<std::pair<int, int>>* resting_pairs) const {
+  const int i = participants[sweep.p], j = participants[sweep.q];
+  const RigidBody& a = bodies_[i];
+  const RigidBody& b = bodies_[j];
+  sweep.relative_motion_m = relative_motion_m;
+  // A resting pair (constraints of the step already) whose points move less than
+  // max_unswept_motion_m relative to each other is held by its contacts, and its motion
+  // checked at the end like a touching pair's: a point that ends outside the other
+  // body and moved less than that can have been at most half of it inside in between
+  // (a box clipping another's corner), which matters only where the step is cut
+  // mid-motion (unswept_clear_fraction). The CCD of such
+  // pairs (surfaces 1 um apart, edges nearly parallel) took thousands of search nodes
+  // and cut steps at times of impact of 1e-6: most of a 1000-box pile's step.
+  // Primitives are checked by their contact manifolds, which measure depth exactly. A
+  // mesh pair (a mesh's manifold can miss a vertex that went in: a bunny dropped 2 cm
+  // onto a table then sank 0.6 mm) is checked by whether its surfaces cross at the end
+  // (check_mesh_crossing), so only when the contact pass found them apart at these
+  // start poses: in a pile of 16 resting bunnies the CCD of such pairs, 250-400 queries
+  // a frame, was 40 % of the live simulator's time and put it seconds behind the camera.
+  const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
+  sweep.apart_at_start = known_apart(apart_at_, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
+  sweep.resting_slowly = resting_pairs && ((primitive(a) && primitive(b)) || sweep.apart_at_start) &&
+                         relative_motion_m <= max_unswept_motion_m(a, b) &&
+                         std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
+  // Two bodies whose bounding boxes are further apart at the start than their points
+  // move relative to each other cannot meet in the step (in a tumbling pile, most of
+  // the pairs whose swept boxes overlap): proven without building their motions.
+  const bool far_apart = !sweep.resting_slowly && collision::gap_lower_bound_m(a.shape, a.X_WB, b.shape, b.X_WB) >
+                                                      relative_motion_m + curve_m + kGapRounding_m;
+  sweep.swept_by_ccd = !sweep.resting_slowly && !far_apart;
+}
+
+void World::answer_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                         const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B) const {
+  const RigidBody& a = bodies_[participants[sweep.p]];
+  const RigidBody& b = bodies_[participants[sweep.q]];
+  const geometry::Pose& next_A = next[sweep.p];
+  const geometry::Pose& next_B = next[sweep.q];
+  CachedImpact& query = *sweep.query;
+  collision::ContinuousOptions ccd = options_.ccd;
+  ccd.apart_at_start = sweep.apart_at_start;
+  const double start_depth_m = query.start_depth_m;  // (-1 for a pair not asked before)
+  query = {true, next_A, next_B,
+           sweep.swept_by_ccd ? collision::time_of_impact(a.shape, motion_A, b.shape, motion_B, ccd)
+                              : collision::ContinuousResult{},
+           {}};
+  const collision::ContinuousResult& r = query.result;
+  query.swept = !sweep.resting_slowly && !touching_at_start(r);
+  if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
+    // The meeting point as material points of both bodies, and A's normal there.
+    const geometry::Pose X_A = motion_A.pose_at(r.time_of_impact);
+    const geometry::Pose X_B = motion_B.pose_at(r.time_of_impact);
+    query.hits = {{X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W}};
+  }
+  if (!sweep.resting_slowly && !touching_at_start(r)) return;
+  // Touching or overlapping already: the CCD cannot time a meeting of surfaces that meet
+  // at the start, and the contacts, linearised, let a turning body dig in (1e-5 m in a
+  // pile of 1000 boxes). So the end of the motion is checked: points deeper than
+  // overlap_tolerance_m (and than the pair was at the start) become constraints of a
+  // re-solve, as a CCD meeting would. (Mesh pairs: finish_sweep.)
+  query.hits.clear();
+  if (!depth_measured(a, b)) return;
+  const double start_depth = query.start_depth_m =
+      start_depth_m >= 0 ? start_depth_m
+                         : deepest_overlap(participants[sweep.p], a.X_WB, participants[sweep.q], b.X_WB);
+  // (A tenth of the tolerance over the start depth keeps a pair that rounding deepens by
+  // nanometres from being cut into ever smaller steps, in which the depenetration speed
+  // can no longer undo anything.)
+  const double allowed = query.allowed_depth_m =
+      std::max(start_depth + 0.1 * options_.overlap_tolerance_m, options_.overlap_tolerance_m);
+  for (const auto& point : collision::contact_manifold(a.shape, next_A, b.shape, next_B, 0.0)) {
+    if (-point.distance_m <= allowed) continue;
+    query.hits.push_back({next_A.inverse() * point.point_A_W, next_B.inverse() * point.point_B_W,
+                          next_A.linear().transpose() * point.normal_W, -point.distance_m});
+  }
+  query.deepens = !query.hits.empty();
+}
+
+void World::finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                         const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B,
+                         StepReport& report) const {
+  const int i = participants[sweep.p], j = participants[sweep.q];
+  const RigidBody& a = bodies_[i];
+  const RigidBody& b = bodies_[j];
+  CachedImpact& query = *sweep.query;
+  const collision::ContinuousResult& r = query.result;
+  if (sweep.swept_by_ccd) ++report.ccd_queries;
+  if (depth_measured(a, b)) return;
+  // Swept from apart without meeting: apart at the end (apart_at_end_).
+  if (query.swept && !r.collides) apart_at_end_[{i, j}] = {next[sweep.p], next[sweep.q]};
+  if (!sweep.resting_slowly && !touching_at_start(r)) return;
+  if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
+    check_mesh_crossing(a, motion_A, b, motion_B, sweep.relative_motion_m, query, nearby_pairs(i, j));
+    if (query.free_until == 1) apart_at_end_[{i, j}] = {next[sweep.p], next[sweep.q]};
+  }
+  query.deepens = !query.hits.empty() || query.free_until < 1;
 }
 
 double World::deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const {

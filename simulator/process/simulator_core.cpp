@@ -16,7 +16,7 @@ SimulatorCore::SimulatorCore(config::SceneConfig scene, CoreOptions options)
 }
 
 void SimulatorCore::reset() {
-  world_ = dynamics::build_world(scene_);
+  world_ = dynamics::build_world(scene_, options_.threads);
   drivers_.clear();
   last_seen_s_.clear();
   spawn_counter_.clear();

@@ -66,6 +66,7 @@ struct CoreOptions {
   double max_spawn_speed_m_s = 20;   // faster spawns are refused
   double max_spawn_distance_m = 10;  // spawns further from the world origin are refused
   double world_radius_m = 10;        // virtual bodies further than this (fallen off) are removed
+  int threads = 1;                   // the world's worker threads (WorldOptions::threads)
 };
 
 // A contact the proxy of a real object made with a static virtual body.

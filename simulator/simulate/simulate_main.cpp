@@ -41,11 +41,15 @@ int main(int argc, char** argv) {
   std::string scene_path, csv_path;
   double duration_s = 0, dt_s = 0;
   std::string solver;
+  int threads = 1;
   app.add_option("SCENE", scene_path, "scene YAML file")->required()->check(CLI::ExistingFile);
   app.add_option("--duration", duration_s, "simulated time, seconds")->required()->check(CLI::PositiveNumber);
   app.add_option("--dt", dt_s, "time step, seconds (default: the scene's physics.time_step_s)")->check(CLI::PositiveNumber);
   app.add_option("--csv", csv_path, "output CSV file ('-' for standard output)")->required();
   app.add_option("--solver", solver, "override the scene's contact solver")->check(CLI::IsMember({"exact", "iterative"}));
+  app.add_option("--threads", threads, "worker threads of the step's collision queries (the CSV is the same for any)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 256));
   CLI11_PARSE(app, argc, argv);
   dynamics::keep_freed_memory_for_reuse();  // (memory_policy.hpp)
 
@@ -60,7 +64,7 @@ int main(int argc, char** argv) {
   if (dt_s == 0) dt_s = scene.time_step_s;
   dynamics::World world;
   try {
-    world = dynamics::build_world(scene);
+    world = dynamics::build_world(scene, threads);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "simulate: %s: %s\n", scene_path.c_str(), e.what());
     return 2;
@@ -102,11 +106,11 @@ int main(int argc, char** argv) {
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::fprintf(stderr,
-               "\r[simulate] %s: %ld steps of %.4g s, %zu bodies; %.3f ms per step (real-time factor %.2f); %ld re-solves "
+               "\r[simulate] %s: %ld steps of %.4g s, %zu bodies, %d thread%s; %.3f ms per step (real-time factor %.2f); %ld re-solves "
                "(CCD meetings and end checks), %ld lifts of resting points left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, "
                "%ld launches prevented, %ld island solves too large for the exact solver; deepest overlap %.3g m; "
                "worst KKT residual %.3g m/s\n",
-               scene.name.c_str(), steps, dt_s, world.bodies().size(), 1e3 * wall_s / std::max(1L, steps),
+               scene.name.c_str(), steps, dt_s, world.bodies().size(), threads, threads == 1 ? "" : "s", 1e3 * wall_s / std::max(1L, steps),
                duration_s / std::max(wall_s, 1e-9), resolves, lifts, cuts, capped, infeasible, launches, iterative, deepest,
                worst_kkt);
   return 0;

@@ -46,6 +46,38 @@ TEST(SimulateCli, InclineCsvHasTheContractAndTheExactAcceleration) {
               9.81 * 0.5 * 0.5, 1e-9);
 }
 
+std::string file_text(const std::string& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
+
+// The bunnies land and pile up within the second; the CSV must not depend on --threads.
+TEST(SimulateCli, TheCsvIsTheSameForOneTwoAndFourThreads) {
+  std::string first;
+  for (int threads : {1, 2, 4}) {
+    const std::string csv = ::testing::TempDir() + "bunnies20_threads" + std::to_string(threads) + ".csv";
+    int code = 0;
+    const std::string summary = run(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunnies20.yaml --duration 0.6 --csv " +
+                                        csv + " --threads " + std::to_string(threads),
+                                    &code);
+    ASSERT_EQ(code, 0) << summary;
+    EXPECT_NE(summary.find(std::to_string(threads) + (threads == 1 ? " thread;" : " threads;")), std::string::npos) << summary;
+    const std::string text = file_text(csv);
+    std::remove(csv.c_str());
+    ASSERT_GT(text.size(), 10000u);
+    if (threads == 1) {
+      first = text;
+    } else {
+      EXPECT_TRUE(text == first) << threads << " threads wrote another CSV than 1 thread";
+    }
+  }
+  int code = 0;
+  const std::string error = run(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunnies20.yaml --duration 0.1 --csv - --threads 0", &code);
+  EXPECT_NE(code, 0);
+  EXPECT_NE(error.find("--threads"), std::string::npos) << error;
+}
+
 TEST(SimulateCli, BadSceneNamesTheFileAndFails) {
   const std::string bad = ::testing::TempDir() + "bad_scene.yaml";
   std::ofstream(bad) << "name: bad\nobjects:\n  - id: ball\n    role: virtual\n    motion: dynamic\n"
