@@ -1,4 +1,6 @@
-// ccd-query MESH_A MESH_B: continuous collision queries from standard input.
+// ccd-query MESH_A MESH_B: continuous collision queries from standard input. A file named
+// *.pieces.obj is a set of convex pieces (tools/models/convex-decompose) and is swept as
+// the simulator sweeps one (conservative advancement, then the hulls' mesh query).
 // Each line holds 28 numbers, the poses of A at t=0 and t=1 and of B at t=0 and t=1,
 // each "x y z qw qx qy qz" (metres, unit quaternion, world-from-body). Each body
 // moves on the screw motion between its two poses. For each line it prints
@@ -15,6 +17,8 @@
 #include <vector>
 
 #include "simulator/collision/continuous_query.hpp"
+#include "simulator/collision/convex_piece.hpp"
+#include "simulator/collision/shape_query.hpp"
 #include "simulator/geometry/pose.hpp"
 #include "tools/ccd_query/query_line.hpp"
 
@@ -22,25 +26,39 @@ namespace {
 
 using namespace arphys;
 
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// A mesh, or a convex-piece set when the file is named *.pieces.obj (throws naming the file).
+collision::Shape load_shape(const std::string& path) {
+  if (ends_with(path, ".pieces.obj")) return collision::Shape::convex_set(collision::load_convex_set(path));
+  return collision::Shape::mesh(collision::CollisionMesh::load(path));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "Continuous collision queries between two meshes (arphys CCD: screw motion, interval arithmetic, OBB trees).\n"
+      "Continuous collision queries between two meshes or convex-piece sets (arphys CCD: screw motion, interval\n"
+      "arithmetic, OBB trees; conservative advancement for pieces).\n"
       "Reads lines of 28 numbers from standard input: poses of A at t=0, A at t=1, B at t=0, B at t=1, each\n"
       "'x y z qw qx qy qz' (metres, unit quaternion, world-from-body). Prints 'hit toi [px py pz nx ny nz]' per line."};
   std::string mesh_a_path, mesh_b_path;
   double time_tolerance = 1e-9;
-  app.add_option("MESH_A", mesh_a_path, "mesh of body A (OBJ/PLY/STL; used as it is)")->required()->check(CLI::ExistingFile);
-  app.add_option("MESH_B", mesh_b_path, "mesh of body B")->required()->check(CLI::ExistingFile);
+  app.add_option("MESH_A", mesh_a_path,
+                 "mesh of body A (OBJ/PLY/STL; used as it is), or its convex pieces (a file named *.pieces.obj)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("MESH_B", mesh_b_path, "mesh or convex pieces of body B")->required()->check(CLI::ExistingFile);
   app.add_option("--time-tolerance", time_tolerance, "TOI tolerance in units of t (the TOI is never late)")
       ->check(CLI::Range(1e-15, 1e-2));
   CLI11_PARSE(app, argc, argv);
 
-  std::shared_ptr<const collision::CollisionMesh> mesh_a, mesh_b;
+  collision::Shape shape_a, shape_b;
   try {
-    mesh_a = collision::CollisionMesh::load(mesh_a_path);
-    mesh_b = mesh_b_path == mesh_a_path ? mesh_a : collision::CollisionMesh::load(mesh_b_path);
+    shape_a = load_shape(mesh_a_path);
+    shape_b = mesh_b_path == mesh_a_path ? shape_a : load_shape(mesh_b_path);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "ccd-query: %s\n", e.what());
     return 1;
@@ -63,7 +81,7 @@ int main(int argc, char** argv) {
       continue;
     }
     const auto start = std::chrono::steady_clock::now();
-    const auto result = collision::time_of_impact(*mesh_a, geometry::ScrewMotion(poses[0], poses[1]), *mesh_b,
+    const auto result = collision::time_of_impact(shape_a, geometry::ScrewMotion(poses[0], poses[1]), shape_b,
                                                   geometry::ScrewMotion(poses[2], poses[3]), options);
     micros.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
     if (result.collides) {
