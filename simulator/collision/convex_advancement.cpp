@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "simulator/collision/collision_mesh.hpp"
 #include "simulator/collision/convex_distance.hpp"
@@ -59,31 +60,47 @@ double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPi
 
 ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotion& motion_A, const ConvexSet& B,
                                             const ScrewMotion& motion_B, const ContinuousOptions& options) {
-  double free_until = 1;
-  bool apart_there = true;  // every pair left at free_until is proven apart there
-  for (const ConvexPiece& a : A.pieces)
-    for (const ConvexPiece& b : B.pieces) {
-      const double speed = closing_speed_bound(a, motion_A, b, motion_B, 0);
-      const double ball_gap = (motion_B.start() * b.centroid_m() - motion_A.start() * a.centroid_m()).norm() -
-                              a.radius_m() - b.radius_m();
+  // Each piece pair advances on its own; a pair left short of the end is swept by the
+  // certified query over the rest of its motion, its two hulls alone (sweeping every
+  // hull of both sets from the earliest stall, most of a pile's time went to pieces that
+  // had been proven apart). Pairs are swept earliest stall first and stop once the next
+  // stall comes after the earliest time of impact found: none of the rest can be earlier.
+  struct Stall {
+    double t;
+    int a, b;
+    bool apart;
+  };
+  std::vector<Stall> stalls;
+  for (int a = 0; a < static_cast<int>(A.pieces.size()); ++a)
+    for (int b = 0; b < static_cast<int>(B.pieces.size()); ++b) {
+      const ConvexPiece& piece_a = A.pieces[a];
+      const ConvexPiece& piece_b = B.pieces[b];
+      const double speed = closing_speed_bound(piece_a, motion_A, piece_b, motion_B, 0);
+      const double ball_gap = (motion_B.start() * piece_b.centroid_m() - motion_A.start() * piece_a.centroid_m()).norm() -
+                              piece_a.radius_m() - piece_b.radius_m();
       if (ball_gap > speed + kApart_m) continue;  // their balls cannot meet
       bool apart = false;
-      const double t = advance(a, motion_A, b, motion_B, &apart);
-      if (t < free_until) {
-        free_until = t;
-        apart_there = apart;
-      } else if (t == free_until) {
-        apart_there = apart_there && apart;
-      }
+      const double t = advance(piece_a, motion_A, piece_b, motion_B, &apart);
+      if (t < 1) stalls.push_back({t, a, b, apart});
     }
-  if (free_until >= 1) return {};
-  ContinuousOptions rest = options;
-  rest.apart_at_start = options.apart_at_start || apart_there;
-  if (free_until == 0) return time_of_impact(*A.hulls, motion_A, *B.hulls, motion_B, rest);
-  // (The rest's tolerance, in its own parameter, is the same fraction of a shorter motion.)
-  ContinuousResult r = time_of_impact(*A.hulls, rest_of(motion_A, free_until), *B.hulls, rest_of(motion_B, free_until), rest);
-  if (r.collides) r.time_of_impact = free_until + (1 - free_until) * r.time_of_impact;
-  return r;
+  std::sort(stalls.begin(), stalls.end(), [](const Stall& x, const Stall& y) {
+    return x.t != y.t ? x.t < y.t : (x.a != y.a ? x.a < y.a : x.b < y.b);
+  });
+  ContinuousResult first;
+  for (const Stall& stall : stalls) {
+    if (first.collides && stall.t >= first.time_of_impact) break;
+    ContinuousOptions rest = options;
+    rest.apart_at_start = options.apart_at_start || stall.apart;
+    const CollisionMesh& hull_a = *A.piece_hulls[stall.a];
+    const CollisionMesh& hull_b = *B.piece_hulls[stall.b];
+    // (The rest's tolerance, in its own parameter, is the same fraction of a shorter motion.)
+    ContinuousResult r = stall.t == 0 ? time_of_impact(hull_a, motion_A, hull_b, motion_B, rest)
+                                      : time_of_impact(hull_a, rest_of(motion_A, stall.t), hull_b, rest_of(motion_B, stall.t), rest);
+    if (!r.collides) continue;
+    r.time_of_impact = stall.t + (1 - stall.t) * r.time_of_impact;
+    if (!first.collides || r.time_of_impact < first.time_of_impact) first = r;
+  }
+  return first;
 }
 
 }  // namespace arphys::collision

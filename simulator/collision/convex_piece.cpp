@@ -175,6 +175,9 @@ std::shared_ptr<const ConvexSet> make_convex_set(std::vector<ConvexPiece> pieces
   auto set = std::make_shared<ConvexSet>();
   set->half_thickness_m = std::numeric_limits<double>::infinity();
   for (const ConvexPiece& piece : pieces) set->half_thickness_m = std::min(set->half_thickness_m, piece.half_thickness_m());
+  for (const ConvexPiece& piece : pieces) {
+    set->piece_hulls.push_back(std::make_shared<const CollisionMesh>(piece.hull(), /*test_each_feature_once=*/true));
+  }
   set->pieces = std::move(pieces);
   // Each vertex and edge tested once, as for a box: the pieces' depths are measured by
   // their separating axes, which catch what a touch culled at a motion's start leaves.

@@ -60,6 +60,7 @@ class ConvexPiece {
 struct ConvexSet {
   std::vector<ConvexPiece> pieces;
   std::shared_ptr<const CollisionMesh> hulls;  // every piece's hull triangles, one closed mesh each
+  std::vector<std::shared_ptr<const CollisionMesh>> piece_hulls;  // each piece's alone, by piece
   double half_thickness_m = 0;                 // the thinnest piece's (ConvexPiece::half_thickness_m)
 };
 

@@ -28,8 +28,10 @@ TEST(PushScenario, TheScrewDrivePushesTheBunnyAlongWithoutThrowingIt) {
 }
 
 // The same frames, the box jumping to each: it lands inside the bunny, which is then thrown
-// out. (The box once jumped through the sleeping bunny as if it were not there: the bunny
-// sat still, overlap 0, and the naive coupling's noise-free cells passed.)
+// out or pushed along from centimetres inside: the study's cell fails either way (thrown
+// above 3x, sunk deeper than 5 mm: tools/eval/write_evaluation.py). (The box once jumped
+// through the sleeping bunny as if it were not there: the bunny sat still, overlap 0, and
+// the naive coupling's noise-free cells passed.)
 TEST(PushScenario, TheTeleportingBoxMeetsTheSleepingBunny) {
   ASSERT_GT(scene().sleep_after_s, 0) << "the scene's bunny sleeps before the push starts";
   PushScenario scenario;
@@ -37,7 +39,9 @@ TEST(PushScenario, TheTeleportingBoxMeetsTheSleepingBunny) {
   const PushOutcome outcome = run_push(scene(), scenario);
   EXPECT_FALSE(outcome.non_finite);
   EXPECT_GT(outcome.max_overlap_mm, 1.0);
-  EXPECT_GT(outcome.peak_speed_ratio, 3.0);
+  EXPECT_TRUE(outcome.peak_speed_ratio > 3.0 || outcome.max_overlap_mm > 5.0)
+      << "peak " << outcome.peak_speed_ratio << "x, overlap " << outcome.max_overlap_mm << " mm";
+  EXPECT_GT(outcome.pushed_m, 0.05);  // it met the bunny: moved it
 }
 
 }  // namespace

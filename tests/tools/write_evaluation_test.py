@@ -105,7 +105,8 @@ class WriteEvaluationTest(unittest.TestCase):
 
     def test_a_stability_cell_fails_when_thrown_or_left_behind_by_the_mean_over_its_runs(self):
         mark = write_evaluation.failure_mark
-        run = lambda peak, pushed: {"peak_speed_ratio": str(peak), "pushed_m": str(pushed)}
+        run = lambda peak, pushed, overlap=0.001: {"peak_speed_ratio": str(peak), "pushed_m": str(pushed),
+                                                   "max_overlap_mm": str(overlap)}
         self.assertEqual(mark([run(3.01, 0.4)]), "x")
         self.assertEqual(mark([run(2.99, 0.4)]), "ok")
         self.assertEqual(mark([run(2.0, 0.19)]), "b")
@@ -115,6 +116,10 @@ class WriteEvaluationTest(unittest.TestCase):
         # The mean over seeds, not the worst seed: 3.5 and 2.0 average 2.75.
         self.assertEqual(mark([run(3.5, 0.4), run(2.0, 0.4)]), "ok")
         self.assertEqual(mark([run(2.0, 0.1), run(2.0, 0.2)]), "b")
+        # Pushed along from inside: sunk, by the mean overlap.
+        self.assertEqual(mark([run(2.2, 0.36, 69.5)]), "s")
+        self.assertEqual(mark([run(2.2, 0.36, 4.9)]), "ok")
+        self.assertEqual(mark([run(2.2, 0.36, 9.0), run(2.2, 0.36, 0.5)]), "ok")
 
     def test_a_thrown_bunny_in_the_files_becomes_a_shortfall_and_a_marked_cell(self):
         before = shortfalls(self.copy.run(*self.args))
@@ -155,7 +160,8 @@ class WriteEvaluationTest(unittest.TestCase):
         self.assertEqual(after[2], base[2])
         self.assertGreaterEqual(after[1], 4)
         self.assertIn("left behind", text.split("Failed cells (of 20):", 1)[1].split("\n", 1)[0])
-        self.assertIn(f"with the tracker's pose filter (its default), throws the bunny (> 3x) or leaves it behind in "
+        self.assertIn(f"with the tracker's pose filter (its default), throws the bunny (> 3x), leaves it behind or sinks "
+                      f"into it in "
                       f"{after[1]} of 20 frame-rate/noise cells ({after[0]} on raw poses", "\n".join(shortfalls(text)))
 
 
