@@ -38,7 +38,13 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
   // The collision mesh varies; the mass properties stay those of the scene's bunny, so
   // every variant has the same (and the clustered meshes do not close into a solid).
   config::ShapeConfig collision = bunny->collision;
-  collision.mesh_path = v.bunny_mesh;
+  if (v.bunny_pieces.empty()) {
+    collision.type = config::ShapeType::kMesh;
+    collision.mesh_path = v.bunny_mesh;
+  } else {
+    collision.type = config::ShapeType::kConvexSet;
+    collision.pieces_path = v.bunny_pieces;
+  }
   if (!v.friction) {
     bunny->friction.reset();
     table->friction.reset();

@@ -1,7 +1,7 @@
 #pragma once
 // "Model no more than a scene needs": the paper's table-and-bunny scene with its models
 // varied one at a time (the table as a plane, a box or a triangle mesh; the bunny's
-// collision mesh at about 500, 1k, 5k and 70k triangles; friction on or off). Three
+// collision mesh at about 500, 1k, 5k and 70k triangles, or as convex pieces; friction on or off). Three
 // bunnies are dropped apart (no bunny touches another, so the outcome is not chaotic)
 // and come to rest; accuracy is how far their rest poses are from the richest model's
 // (70k bunny, box table, same friction), cost is milliseconds per step. A tilted bunny
@@ -18,6 +18,7 @@ namespace arphys::eval {
 struct ModelVariant {
   std::string table = "box";        // "plane" | "box" | "mesh"
   std::string bunny_mesh;           // absolute path of the collision mesh
+  std::string bunny_pieces;         // or of a convex-piece file: the bunny collides as its pieces
   int bunny_triangles = 0;          // for the report
   bool friction = true;
 };

@@ -160,6 +160,7 @@ int main(int argc, char** argv) {
   std::string camera = "synthetic", script_path, tracker_impl = "apriltag", out_dir, only, url, build_dir = ARPHYS_BUILD_DIR;
   std::string tracker_filter = "constant_velocity";
   double duration_s = 20, spawn_every_s = 1.0, renderer_wait_ms = 0, sim_max_lag_s = 0.1;
+  int sim_threads = 1;
   bool record = false, restart = false;
   double receive_loss = 0;
   std::string tracking_policy;
@@ -200,6 +201,11 @@ int main(int argc, char** argv) {
                  "a simulator falling further behind the camera than this gives the backlog up (its virtual bodies "
                  "run slow for a moment) instead of lagging ever more (arphys-simulator --max-lag-s; 0: never)")
       ->check(CLI::Range(0.0, 3600.0))
+      ->capture_default_str();
+  app.add_option("--sim-threads", sim_threads,
+                 "worker threads of the simulator's collision queries (arphys-simulator --threads; the world states "
+                 "are the same for any number)")
+      ->check(CLI::Range(1, 256))
       ->capture_default_str();
   app.add_option("--receive-loss", receive_loss,
                  "fault injection: every started process drops this fraction of the messages it receives, at random "
@@ -305,6 +311,7 @@ int main(int argc, char** argv) {
     if (!tracking_policy.empty()) args.insert(args.end(), {"--tracking-policy", tracking_policy});
     if (catch_up_factor > 0) args.insert(args.end(), {"--catch-up-factor", std::to_string(catch_up_factor)});
     if (sim_max_lag_s > 0) args.insert(args.end(), {"--max-lag-s", std::to_string(sim_max_lag_s)});
+    if (sim_threads > 1) args.insert(args.end(), {"--threads", std::to_string(sim_threads)});
     start_child("simulator", args);
   }
   if (wanted("renderer")) {

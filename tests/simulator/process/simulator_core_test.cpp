@@ -428,9 +428,12 @@ TEST(SimulatorCore, RefusalTablesStayBoundedUnderRandomNames) {
   EXPECT_LE(core.rejections().size(), 65u);
 }
 
+// The same on 1 and 2 worker threads (CoreOptions::threads), the main job's scene shoved by its box.
 TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
-  auto run = [] {
-    SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
+  auto run = [](int threads) {
+    CoreOptions options;
+    options.threads = threads;
+    SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), options);
     for (int k = 0; k <= 60; ++k)
       core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 - 0.008 * k, 0.002 * (k % 3), 0.0755}));
     core.advance_to(core.sim_time_of(kStart + 60 * 33'333));
@@ -438,9 +441,13 @@ TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
     for (const auto& body : core.world().bodies()) poses.push_back(body.X_WB.matrix());
     return poses;
   };
-  const auto a = run(), b = run();
+  const auto a = run(1), b = run(1), c = run(2);
   ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i], b[i]) << "body " << i;  // bit for bit
+  ASSERT_EQ(a.size(), c.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i], b[i]) << "body " << i;  // bit for bit
+    EXPECT_EQ(a[i], c[i]) << "body " << i << " on 2 threads";
+  }
 }
 
 // Application 1: the tracked spoon moves into the virtual teacup's wall; its proxy
