@@ -1,9 +1,11 @@
 #pragma once
-// The paper's bunny scenes on arphys and on Bullet 3.24 with the same convex pieces (a
-// compound of convex hulls per bunny, the table and the tracked box as boxes, the bunny's
-// mass and inertia as arphys computes them): ms per step, real-time factor and the deepest
-// overlap of any two bodies after each step, measured alike for both by arphys's own
-// signed-distance manifolds at the poses each engine reports.
+// The paper's bunny scenes on arphys and on its peers (bunny_peer.hpp): Bullet 3.24 with a
+// compound of the same convex pieces and with GImpact on the mesh they were made from,
+// MuJoCo 2.2.2 with the pieces as mesh geoms, ODE 0.16 with the mesh as a trimesh; the
+// table and the tracked box as boxes, the bunny's mass and inertia as arphys computes them.
+// Per scene and engine: ms per step, real-time factor and the deepest overlap of any two
+// bodies after each step, measured alike for all by arphys's signed-distance manifolds of
+// the pieces at the poses each engine reports.
 #include <ostream>
 #include <string>
 

@@ -42,3 +42,17 @@ if (exists("anchor")) {
     sprintf("< awk -F, '$1 == \"%s\" && $2 == %s' '%s'", e, mu, anchor) \
     using 3:(floor_mm($5 > $6 ? $5 : $6)) with points pt (mu eq "0" ? 7 : 5) ps 1.6 title sprintf("%s, mu %s", e, mu)
 }
+
+# 4. The paper's bunny scenes on every engine (only when the bunnies-peers scene ran):
+#    the deepest overlap of any two bodies against ms per step (0: drawn at 1e-4 mm).
+if (exists("bunnies")) {
+  set output outdir.'/dyn_bunnies_peers.png'
+  set title "bunnies20 (circles) and bunnies100 (squares), dt = 10 ms, 3 s: overlap against time per step"
+  set xlabel 'ms per step (log)'
+  set ylabel 'deepest overlap, mm (log; 0 drawn at 1e-4)'
+  set key outside right
+  plot for [e in "arphys bullet-compound bullet-gimpact mujoco ode-trimesh"] for [s in "bunnies20 bunnies100"] \
+    sprintf("< awk -F, '$2 == \"%s\" && $1 == \"%s\"' '%s'", e, s, bunnies) \
+    using 3:(floor_mm($5)) with points pt (s eq "bunnies20" ? 7 : 5) ps 1.6 lc (e eq "arphys" ? 1 : e eq "bullet-compound" ? 2 : e eq "bullet-gimpact" ? 3 : e eq "mujoco" ? 4 : 6) \
+    title sprintf("%s, %s", e, s)
+}

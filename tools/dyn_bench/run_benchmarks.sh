@@ -8,5 +8,7 @@ bench_setup dyn arphys-dyn-bench
 "$bench" --out "$out" "$@" | tee "$out/dyn_bench.txt"
 anchor=""
 [[ -s "$out/dyn_anchor_pile.csv" ]] && anchor="; anchor='$out/dyn_anchor_pile.csv'"
-gnuplot -e "drop='$out/dyn_drop.csv'; outdir='$out'$anchor" "$root/tools/dyn_bench/dyn_charts.gp"
-echo "charts: $out/dyn_drop_timing.png $out/dyn_accuracy_speed.png${anchor:+ $out/dyn_anchor_pile.png}" >&2
+bunnies=""
+[[ -s "$out/dyn_bunnies_peers.csv" ]] && bunnies="; bunnies='$out/dyn_bunnies_peers.csv'"
+gnuplot -e "drop='$out/dyn_drop.csv'; outdir='$out'$anchor$bunnies" "$root/tools/dyn_bench/dyn_charts.gp"
+echo "charts: $out/dyn_drop_timing.png $out/dyn_accuracy_speed.png${anchor:+ $out/dyn_anchor_pile.png}${bunnies:+ $out/dyn_bunnies_peers.png}" >&2
