@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "simulator/collision/convex_distance.hpp"
 #include "simulator/collision/triangle_distance.hpp"
@@ -55,17 +56,28 @@ EdgeAxis best_edge_pair(const Placed& A, const Placed& B, double tolerance) {
   EdgeAxis best;
   const auto& ea = A.piece.edges();
   const auto& eb = B.piece.edges();
+  // B's arcs once (negated normals and their cross product), not once per edge of A.
+  struct Arc {
+    Vector3d c, d, dxc;
+  };
+  thread_local std::vector<Arc> arcs;
+  arcs.resize(eb.size());
+  for (std::size_t j = 0; j < eb.size(); ++j) {
+    arcs[j].c = -B.n[eb[j].face_left];
+    arcs[j].d = -B.n[eb[j].face_right];
+    arcs[j].dxc = arcs[j].d.cross(arcs[j].c);
+  }
   for (int i = 0; i < static_cast<int>(ea.size()); ++i) {
     const Vector3d& a = A.n[ea[i].face_left];
     const Vector3d& b = A.n[ea[i].face_right];
     const Vector3d bxa = b.cross(a);
     const Vector3d pa = A.v[ea[i].v0], da = A.v[ea[i].v1] - pa;
     for (int j = 0; j < static_cast<int>(eb.size()); ++j) {
-      const Vector3d c = -B.n[eb[j].face_left];
-      const Vector3d d = -B.n[eb[j].face_right];
+      const Vector3d& c = arcs[j].c;
+      const Vector3d& d = arcs[j].d;
       const double cba = c.dot(bxa), dba = d.dot(bxa);
       if (cba * dba >= 0) continue;
-      const Vector3d dxc = d.cross(c);
+      const Vector3d& dxc = arcs[j].dxc;
       const double adc = a.dot(dxc), bdc = b.dot(dxc);
       if (adc * bdc >= 0 || cba * bdc <= 0) continue;
       const Vector3d pb = B.v[eb[j].v0], db = B.v[eb[j].v1] - pb;
