@@ -18,9 +18,9 @@ namespace arphys::eval {
 struct ModelVariant {
   std::string table = "box";        // "plane" | "box" | "mesh"
   std::string bunny_mesh;           // absolute path of the collision mesh
-  std::string bunny_pieces;         // or of a convex-piece file: the bunny collides as its pieces
   int bunny_triangles = 0;          // for the report
   bool friction = true;
+  std::string bunny_pieces;         // a convex-piece file: the bunny collides as its pieces, not bunny_mesh
 };
 
 struct ModelOutcome {
