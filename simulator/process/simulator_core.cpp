@@ -298,8 +298,10 @@ void SimulatorCore::update_kinematic(double t0, double t1) {
     double earliest = 1.0;
     for (const dynamics::RigidBody& other : world_.bodies()) {
       if (other.real || other.motion != dynamics::BodyMotion::kStatic) continue;
+      // (The world's CCD settings: its time tolerance and work budgets, whose answers are
+      // never late. A proxy stopped at the cup starts every later query touching it.)
       const auto r = collision::time_of_impact(body.shape, motion, other.shape,
-                                               geometry::ScrewMotion(other.X_WB, other.X_WB));
+                                               geometry::ScrewMotion(other.X_WB, other.X_WB), world_.options().ccd);
       if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart) continue;
       if (r.time_of_impact < earliest) {
         earliest = r.time_of_impact;
