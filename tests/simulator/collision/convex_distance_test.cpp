@@ -24,7 +24,12 @@ TEST(ConvexDistance, BoundsAndConvergesToTheHullsDistance) {
   std::mt19937 rng(3);
   std::uniform_int_distribution<int> pick(0, static_cast<int>(set->pieces.size()) - 1);
   int apart = 0, overlapping = 0, iterations = 0;
-  for (int trial = 0; trial < 2000; ++trial) {
+#ifdef ARPHYS_UNDER_SANITIZERS
+  const int trials = 400;  // memory and UB checks of the same paths (2000 take 25 s there)
+#else
+  const int trials = 2000;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
     const ConvexPiece& a = set->pieces[pick(rng)];
     const ConvexPiece& b = set->pieces[pick(rng)];
     const Pose X_WA = random_pose(rng, 0.0) * at(-a.centroid_m());
@@ -46,8 +51,8 @@ TEST(ConvexDistance, BoundsAndConvergesToTheHullsDistance) {
     EXPECT_NEAR(d.upper_m, truth, 1e-8) << "trial " << trial;
     iterations += d.iterations;
   }
-  EXPECT_GT(apart, 500);
-  EXPECT_GT(overlapping, 200);
+  EXPECT_GT(apart, trials / 4);
+  EXPECT_GT(overlapping, trials / 10);
   std::printf("GJK: %d apart (mean %.1f iterations), %d overlapping\n", apart, static_cast<double>(iterations) / apart,
               overlapping);
 }
