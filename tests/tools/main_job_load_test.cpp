@@ -26,6 +26,8 @@ TEST(MainJobLoad, StepsEachSimulatedSecondAndThrowsInABunnyASecond) {
     // A frame's steps may straddle a second's end: within one frame's worth (2 steps at 30 Hz).
     EXPECT_NEAR(load[s].steps, steps_per_second, 2) << "second " << s;
     EXPECT_TRUE(std::isfinite(load[s].ms_per_step) && load[s].ms_per_step > 0) << "second " << s;
+    // 50 steps in 30 frames: the slowest frame holds at least the mean step.
+    EXPECT_GE(load[s].max_frame_ms, load[s].ms_per_step) << "second " << s;
     EXPECT_EQ(load[s].bodies_left_world, 0);
   }
   // The scene starts with its own bunnies; one more arrives at the end of each second.

@@ -1,5 +1,6 @@
 #include "tools/eval/main_job_load.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -48,7 +49,9 @@ std::vector<LoadSecond> run_main_job_load(const config::CameraScriptConfig& scri
     }
     const auto before = std::chrono::steady_clock::now();
     const int steps = core.advance_to(core.sim_time_of(frame.capture_utime));
-    current_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - before).count();
+    const double frame_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - before).count();
+    current_ms += frame_ms;
+    current.max_frame_ms = std::max(current.max_frame_ms, frame_ms);
     current.steps += steps;
     const int second = static_cast<int>(std::floor(core.sim_time_s() + 1e-9));
     if (second > current.second) {

@@ -20,6 +20,7 @@ struct LoadSecond {
   int second = 0;             // [second, second + 1) of simulation time
   double ms_per_step = 0;     // CPU (wall, one thread) per simulation step in that second
   int steps = 0;
+  double max_frame_ms = 0;    // the slowest frame's steps: what makes the live job give up time
   int virtual_bodies = 0;     // at the end of the second
   int bodies_left_world = 0;  // fallen off the table so far (and removed)
 };
