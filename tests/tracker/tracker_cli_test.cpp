@@ -125,7 +125,15 @@ TEST(TrackerCli, JsonForAVideoFile) {
 // The paper's scene file: the table's corner markers and the box's face markers, rendered
 // from a camera above the table; the JSON gives both objects TRACKED and the box where
 // it was drawn (camera frame).
-TEST(TrackerCli, ObjectsOfASceneFile) {
+struct SceneRun {
+  CliRun cli;
+  arphys::geometry::Pose X_CB;  // the box in the camera, as rendered
+};
+
+// One frame of bunny_box_table.yaml's markers from above the table, run through
+// `tracker --scene`; `moved_id`, if set, is rendered `shift_m` along the table's x from where
+// the scene puts it (a marker stuck on in the wrong place).
+SceneRun track_scene_frame(const std::string& folder_name, int moved_id = -1, double shift_m = 0) {
   const std::string scene_file = std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunny_box_table.yaml";
   const auto scene = arphys::config::load_scene(scene_file);
   const auto camera = arphys::tracking::CameraModel::from_config(arphys::config::load_camera(scene.camera_file));
@@ -134,31 +142,61 @@ TEST(TrackerCli, ObjectsOfASceneFile) {
                       .toRotationMatrix();
   X_WC.translation() = Eigen::Vector3d(0.1, -0.85, 0.75);
   std::vector<arphys::tracking::MarkerPlacement> placed;
-  arphys::geometry::Pose X_CB = arphys::geometry::Pose::Identity();
+  SceneRun run_result{{}, arphys::geometry::Pose::Identity()};
   for (const auto& o : scene.objects) {
-    if (o.id == "box") X_CB = X_WC.inverse() * o.X_WO;
-    for (const auto& m : o.markers) placed.push_back({m.family, m.id, m.size_m, X_WC.inverse() * o.X_WO * m.X_OM});
+    if (o.id == "box") run_result.X_CB = X_WC.inverse() * o.X_WO;
+    for (const auto& m : o.markers) {
+      arphys::geometry::Pose X_OM = m.X_OM;
+      if (m.id == moved_id) X_OM.translation().x() += shift_m;
+      placed.push_back({m.family, m.id, m.size_m, X_WC.inverse() * o.X_WO * X_OM});
+    }
   }
-  const std::string folder = ::testing::TempDir() + "tracker_scene_frames";
+  const std::string folder = ::testing::TempDir() + folder_name;
   std::filesystem::create_directories(folder);
   arphys::tracking::ImageEffects effects;
   effects.noise_sigma = 2;
   cv::imwrite(folder + "/frame_000.png",
               arphys::tracking::render_markers(camera, placed, arphys::tracking::clutter_background(640, 480, 6), effects));
-  const CliRun r = run("--scene " + scene_file + " --source " + folder + " --json --no-lcm");
-  ASSERT_EQ(r.exit_code, 0) << r.out;
+  run_result.cli = run("--scene " + scene_file + " --source " + folder + " --json --no-lcm");
+  if (!getenv("KEEP")) std::filesystem::remove_all(folder);
+  return run_result;
+}
+
+std::map<std::string, nlohmann::json> objects_of_one_frame(const CliRun& r) {
   const auto lines = json_lines(r.out);
-  ASSERT_EQ(lines.size(), 1u);
+  EXPECT_EQ(lines.size(), 1u);
   std::map<std::string, nlohmann::json> objects;
+  if (lines.empty()) return objects;
   for (const auto& o : lines[0].at("objects")) objects[o.at("id")] = o;
+  return objects;
+}
+
+TEST(TrackerCli, ObjectsOfASceneFile) {
+  const SceneRun r = track_scene_frame("tracker_scene_frames");
+  ASSERT_EQ(r.cli.exit_code, 0) << r.cli.out;
+  auto objects = objects_of_one_frame(r.cli);
   ASSERT_EQ(objects.count("table"), 1u);
   ASSERT_EQ(objects.count("box"), 1u);
   EXPECT_EQ(objects["table"].at("status"), "TRACKED");
+  EXPECT_FALSE(objects["table"].contains("markers_rejected"));
   ASSERT_EQ(objects["box"].at("status"), "TRACKED");
   const auto& p = objects["box"].at("position_m");
-  EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - X_CB.translation()).norm(), 2e-3);
+  EXPECT_LT((Eigen::Vector3d(p[0], p[1], p[2]) - r.X_CB.translation()).norm(), 2e-3);
   EXPECT_GE(objects["box"].at("markers_used").size(), 2u);  // top and front faces
-  if (!getenv("KEEP")) std::filesystem::remove_all(folder);
+}
+
+// A table marker 5 cm from where the scene puts it: the JSON names it under
+// markers_rejected, the table stays TRACKED on the other two in view and the stderr summary counts it.
+TEST(TrackerCli, AMarkerOffItsLayoutIsNamedAndLeftOut) {
+  const SceneRun r = track_scene_frame("tracker_scene_moved_marker", 2, 0.05);
+  ASSERT_EQ(r.cli.exit_code, 0) << r.cli.out;
+  auto objects = objects_of_one_frame(r.cli);
+  ASSERT_EQ(objects.count("table"), 1u);
+  EXPECT_EQ(objects["table"].at("status"), "TRACKED");
+  ASSERT_TRUE(objects["table"].contains("markers_rejected")) << objects["table"].dump();
+  EXPECT_EQ(objects["table"].at("markers_rejected"), nlohmann::json::array({2}));
+  EXPECT_EQ(objects["table"].at("markers_used"), nlohmann::json::array({1, 3}));  // marker 0 is out of view
+  EXPECT_NE(r.cli.out.find("1 markers left out of fits"), std::string::npos) << r.cli.out;
 }
 
 // A folder played at its frame rate (--pace, --fps 10) and its frames republished on LCM

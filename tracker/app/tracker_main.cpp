@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
                "corners in OpenCV's pixel convention (pixel centres at integers)."};
   std::string camera_path, source, scene_path, impl = "apriltag", url, name = "tracker", filter = "constant_velocity";
   std::vector<std::string> params, families;
-  double marker_size_m = 0, fps = 30, camera_fps = 0, predict_s = 0.1, duration_s = 0;
+  double marker_size_m = 0, fps = 30, camera_fps = 0, predict_s = 0.1, duration_s = 0, max_fit_px = 2.0,
+         marker_outlier_px = 3.0;
   int width = 0, height = 0;
   int64_t max_frames = 0;
   bool json = false, print = false, no_lcm = false, publish_images = false, pace = false;
@@ -77,6 +78,12 @@ int main(int argc, char** argv) {
   app.add_option("--camera-fps", camera_fps, "V4L2: requested frame rate");
   app.add_option("--predict-s", predict_s, "an object not seen is PREDICTED for this long, then LOST, seconds")
       ->check(CLI::NonNegativeNumber)->capture_default_str();
+  app.add_option("--max-fit-px", max_fit_px, "an object whose markers miss their fit by more than this RMS is not "
+                                            "TRACKED (a wrong layout), pixels")
+      ->check(CLI::PositiveNumber)->capture_default_str();
+  app.add_option("--marker-outlier-px", marker_outlier_px, "a marker of a multi-marker object that misses the others' "
+                                                          "fit by more than this RMS is left out and named, pixels")
+      ->check(CLI::PositiveNumber)->capture_default_str();
   app.add_option("--filter", filter, "pose filter on object and camera poses: one_euro steadies a still marker, "
                                      "constant_velocity (a Kalman filter) smooths a moving one for physics (the default, as in arphys-launch), "
                                      "none publishes the raw fits")
@@ -111,6 +118,8 @@ int main(int argc, char** argv) {
     for (const auto& p : params) spec.params.push_back(split_param(p));
     TrackerOptions options;
     options.predict_s = predict_s;
+    options.max_fit_rms_px = max_fit_px;
+    options.consensus.marker_outlier_px = marker_outlier_px;
     options.filter.kind = pose_filter_kind_from(filter);
     pipeline = std::make_unique<TrackerPipeline>(
         make_detector(spec), ObjectTracker(std::move(model), CameraModel::from_config(camera_config), options));
@@ -258,6 +267,8 @@ int main(int argc, char** argv) {
           {"wrong_format_frames", static_cast<double>(c.wrong_format)},
           {"unknown_markers", static_cast<double>(c.unknown_markers)},
           {"rejected_poses", static_cast<double>(c.rejected_poses)},
+          {"rejected_markers", static_cast<double>(c.rejected_markers)},
+          {"poor_fits", static_cast<double>(c.poor_fits)},
           {"detector_switches", static_cast<double>(c.detector_switches)},
           {"rejected_controls", static_cast<double>(c.rejected_controls)}};
       for (const auto& [n, v] : figures) msg::add_figure(status, n, v);
@@ -269,10 +280,12 @@ int main(int argc, char** argv) {
   }
   const auto& c = pipeline->counters();
   std::fprintf(stderr, "tracker: %lld frames, %lld skipped (size %lld, format %lld, unreadable %lld), %lld unknown "
-               "markers ignored, %lld outlier poses dropped by the filter, %lld detector switches, %lld controls refused\n",
+               "markers ignored, %lld outlier poses dropped by the filter, %lld markers left out of fits, %lld fits above "
+               "--max-fit-px, %lld detector switches, %lld controls refused\n",
                static_cast<long long>(c.frames), static_cast<long long>(c.wrong_size + c.wrong_format + frames->skipped_frames()),
                static_cast<long long>(c.wrong_size), static_cast<long long>(c.wrong_format),
                static_cast<long long>(frames->skipped_frames()), static_cast<long long>(c.unknown_markers),
-               static_cast<long long>(c.rejected_poses), static_cast<long long>(c.detector_switches), static_cast<long long>(c.rejected_controls));
+               static_cast<long long>(c.rejected_poses), static_cast<long long>(c.rejected_markers),
+               static_cast<long long>(c.poor_fits), static_cast<long long>(c.detector_switches), static_cast<long long>(c.rejected_controls));
   return 0;
 }

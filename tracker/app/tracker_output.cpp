@@ -58,6 +58,7 @@ nlohmann::json frame_json(const FrameReport& report, int64_t frame_index) {
       marker["reprojection_error_px"] = m.rms_px;
     }
     if (!m.owner.empty()) marker["object"] = m.owner;
+    if (m.rejected) marker["rejected"] = true;
     j["markers"].push_back(marker);
   }
   j["objects"] = nlohmann::json::array();
@@ -65,6 +66,8 @@ nlohmann::json frame_json(const FrameReport& report, int64_t frame_index) {
     nlohmann::json object;
     object["id"] = o.id;
     object["status"] = to_string(o.status);
+    if (!o.reason.empty()) object["reason"] = o.reason;
+    if (!o.rejected_marker_ids.empty()) object["markers_rejected"] = o.rejected_marker_ids;
     if (o.status != TrackStatus::kLost) {
       put_pose(object, o.X_CO);
       object["markers_used"] = o.marker_ids;
@@ -129,6 +132,9 @@ arphys::object_poses_t poses_message(const FrameReport& report, const std::strin
     p.X_WO = msg::to_message(o.X_WO);
     p.marker_ids = o.marker_ids;
     p.num_markers_used = static_cast<int32_t>(o.marker_ids.size());
+    p.rejected_marker_ids = o.rejected_marker_ids;
+    p.num_markers_rejected = static_cast<int32_t>(o.rejected_marker_ids.size());
+    p.status_reason = o.reason;
     p.reprojection_error_px = o.rms_px;
     p.position_error_m = o.position_sigma_m;
     p.rotation_error_rad = o.rotation_sigma_rad;

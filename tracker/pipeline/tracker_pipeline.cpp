@@ -67,6 +67,8 @@ std::optional<FrameReport> TrackerPipeline::process(const Frame& frame, bool ind
   ++counters_.frames;
   counters_.unknown_markers += report.result.unknown_markers;
   counters_.rejected_poses += report.result.rejected_poses;
+  counters_.rejected_markers += report.result.rejected_markers;
+  counters_.poor_fits += report.result.poor_fits;
   return report;
 }
 

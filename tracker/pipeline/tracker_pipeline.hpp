@@ -28,6 +28,8 @@ struct PipelineCounters {
   int64_t wrong_format = 0;       // skipped: not 8-bit grey/BGR/BGRA
   int64_t unknown_markers = 0;    // detections of markers no object declares (ignored)
   int64_t rejected_poses = 0;     // object or camera fits the pose filter dropped as outliers
+  int64_t rejected_markers = 0;   // owned markers left out of their object's fit (disagreeing)
+  int64_t poor_fits = 0;          // object fits above the tracker's max_fit_rms_px (not TRACKED)
   int64_t unrefined_corners = 0;  // detections whose edges could not refine the corners (kept as detected)
   int64_t detector_switches = 0;  // implementation changes at run time
   int64_t rejected_controls = 0;  // switch or parameter requests refused

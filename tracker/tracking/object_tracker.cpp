@@ -1,6 +1,8 @@
 #include "tracker/tracking/object_tracker.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -30,6 +32,14 @@ Pose exp_twist(const Pose& X, const Eigen::Vector3d& v, const Eigen::Vector3d& w
   if (angle > 0) out.linear() = Eigen::AngleAxisd(angle, w.normalized()).toRotationMatrix() * X.linear();
   return out;
 }
+
+std::string ids_text(const std::vector<int>& ids) {
+  std::string out;
+  for (int id : ids) out += (out.empty() ? "" : " ") + std::to_string(id);
+  return out;
+}
+
+std::string milliseconds_text(double seconds) { return std::to_string(std::lround(seconds * 1e3)) + " ms"; }
 
 }  // namespace
 
@@ -75,6 +85,10 @@ const ObjectModel* TrackerModel::find(const std::string& object_id) const {
 
 ObjectTracker::ObjectTracker(TrackerModel model, CameraModel camera, TrackerOptions options)
     : model_(std::move(model)), camera_(std::move(camera)), options_(options) {
+  if (!(options_.max_fit_rms_px > 0)) {
+    throw std::invalid_argument("ObjectTracker: max_fit_rms_px " + std::to_string(options_.max_fit_rms_px) +
+                                " must be > 0 (pixels)");
+  }
   for (const auto& o : model_.objects) {
     tracks_[o.id].filter = PoseFilter(options_.filter);
     if (!o.defines_world) continue;
@@ -163,54 +177,52 @@ int ObjectTracker::choose_branch(Track& track, const std::array<Pose, 2>& X_CO, 
 ObjectTracker::Fit ObjectTracker::fit_rigid_set(const std::vector<MarkerModel>& set,
                                                 const std::vector<const DetectedMarker*>& seen, Track& track,
                                                 int64_t utime) {
-  const std::optional<Pose> X_CO_predicted = predicted(track, utime);
   Fit fit;
-  std::vector<Eigen::Vector3d> p_O;
-  std::vector<Eigen::Vector2d> uv;
-  std::vector<Pose> candidates;
+  std::vector<MarkerCorners> corners;
+  std::vector<Pose> hypotheses;
   const MarkerModel* single = nullptr;
   MarkerPoseSolutions single_solutions;
   for (const DetectedMarker* d : seen) {
     for (const auto& m : set) {
       if (m.id != d->id || m.family != d->family) continue;
-      const auto corners = marker_corners_M(m.size_m);
+      MarkerCorners c;
+      c.id = m.id;
+      const auto corners_M = marker_corners_M(m.size_m);
       for (int k = 0; k < 4; ++k) {
-        p_O.push_back(m.X_OM * corners[k]);
-        uv.push_back(d->corners_px[k]);
+        c.p_O[k] = m.X_OM * corners_M[k];
+        c.uv_px[k] = d->corners_px[k];
       }
+      corners.push_back(c);
       const MarkerPoseSolutions s = solve_marker_pose(*d, m.size_m, camera_);
-      for (int i = 0; i < s.count; ++i) candidates.push_back(s.X_CM[i] * m.X_OM.inverse());
-      fit.marker_ids.push_back(m.id);
+      for (int i = 0; i < s.count; ++i) hypotheses.push_back(s.X_CM[i] * m.X_OM.inverse());
       single = &m;
       single_solutions = s;
     }
   }
-  if (fit.marker_ids.empty()) return fit;
+  if (corners.empty()) return fit;
 
-  Pose X_CO_initial;
-  if (fit.marker_ids.size() == 1) {
+  if (corners.size() == 1) {
     int pick = 0;
     if (single_solutions.count == 2) {
       const std::array<Pose, 2> X_CO{single_solutions.X_CM[0] * single->X_OM.inverse(),
                                      single_solutions.X_CM[1] * single->X_OM.inverse()};
       pick = choose_branch(track, X_CO, single_solutions, utime);
     }
-    X_CO_initial = single_solutions.X_CM[pick] * single->X_OM.inverse();
+    const std::vector<Eigen::Vector3d> p_O(corners[0].p_O.begin(), corners[0].p_O.end());
+    const std::vector<Eigen::Vector2d> uv(corners[0].uv_px.begin(), corners[0].uv_px.end());
+    fit.pose = refine_pose(p_O, uv, single_solutions.X_CM[pick] * single->X_OM.inverse(), camera_);
+    fit.marker_ids.push_back(corners[0].id);
   } else {
     track.branches_valid = false;
-    // Several markers: every marker's solutions (and the prediction) are hypotheses
-    // for the whole set; the corners of all markers decide between them.
-    if (X_CO_predicted) candidates.push_back(*X_CO_predicted);
-    double best = std::numeric_limits<double>::infinity();
-    for (const auto& c : candidates) {
-      const double rms = reprojection_rms_px(p_O, uv, c, camera_);
-      if (rms < best) {
-        best = rms;
-        X_CO_initial = c;
-      }
+    // Several markers: every marker's solutions (and the prediction) are hypotheses for
+    // the whole set; the markers that agree decide, and those that do not are left out.
+    if (const std::optional<Pose> X_CO_predicted = predicted(track, utime)) hypotheses.push_back(*X_CO_predicted);
+    const ConsensusFit consensus = fit_with_consensus(corners, hypotheses, camera_, options_.consensus);
+    fit.pose = consensus.pose;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      (consensus.inlier[i] ? fit.marker_ids : fit.rejected_ids).push_back(corners[i].id);
     }
   }
-  fit.pose = refine_pose(p_O, uv, X_CO_initial, camera_);
   fit.ok = std::isfinite(fit.pose.X_CO.translation().sum()) && std::isfinite(fit.pose.X_CO.linear().sum());
   return fit;
 }
@@ -246,7 +258,9 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
   // The camera in the world, from every world-fixing marker at once.
   if (!seen_world.empty()) {
     const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, capture_utime);
-    if (fit.ok) {
+    // A wrong world layout: the camera keeps its last world pose (the world objects' own
+    // fits below count and name what is wrong).
+    if (fit.ok && fit.pose.rms_px <= options_.max_fit_rms_px) {
       const Pose X_CW = world_track_.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
       if (world_track_.filter.rejected_last()) {
         ++result.rejected_poses;  // the camera keeps its last world pose
@@ -266,6 +280,17 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     const auto seen = seen_by_object.find(object.id);
     Fit fit;
     if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, track, capture_utime);
+    result.rejected_markers += static_cast<int>(fit.rejected_ids.size());
+    obs.rejected_marker_ids = fit.rejected_ids;
+    if (fit.ok && fit.pose.rms_px > options_.max_fit_rms_px) {
+      // The markers seen do not fit the object's layout: no pose from them is a measurement.
+      ++result.poor_fits;
+      char text[160];
+      std::snprintf(text, sizeof text, "fit error %.2f px > %.2f px over markers %s", fit.pose.rms_px,
+                    options_.max_fit_rms_px, ids_text(fit.marker_ids).c_str());
+      obs.reason = text;
+      fit.ok = false;
+    }
     const Pose X_filtered = fit.ok ? track.filter.filter(fit.pose.X_CO, capture_utime * 1e-6) : Pose::Identity();
     if (fit.ok && track.filter.rejected_last()) {
       // A fit far from where the object is going (a flipped single-marker pose): the
@@ -273,6 +298,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
       ++result.rejected_poses;
       obs.status = TrackStatus::kPredicted;
       obs.X_CO = X_filtered;
+      obs.reason = "fit dropped by the pose filter as an outlier";
     } else if (fit.ok) {
       record(track, X_filtered, capture_utime);
       obs.status = TrackStatus::kTracked;
@@ -283,6 +309,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
       obs.rotation_sigma_rad = fit.pose.rotation_sigma_rad;
     } else if (track.seen) {
       const double age = seconds_between(capture_utime, track.last_seen_utime);
+      if (obs.reason.empty()) obs.reason = "not seen for " + milliseconds_text(age);
       if (age <= options_.predict_s && age >= 0) {
         obs.status = TrackStatus::kPredicted;
         obs.X_CO = exp_twist(track.X_CO, track.v_m_s, track.w_rad_s, age);
@@ -291,6 +318,8 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
         obs.X_CO = track.X_CO;
         track.filter.reset();
       }
+    } else if (obs.reason.empty()) {
+      obs.reason = "never seen";
     }
     obs.last_seen_utime = track.seen ? track.last_seen_utime : 0;
     if (object.defines_world) {
@@ -308,7 +337,11 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
   for (auto& obs : result.markers) {
     if (!obs.owner.empty()) {
       for (const auto& o : result.objects) {
-        if (o.id != obs.owner || o.status != TrackStatus::kTracked) continue;
+        if (o.id == obs.owner) {
+          const auto& r = o.rejected_marker_ids;
+          obs.rejected = std::find(r.begin(), r.end(), obs.marker.id) != r.end();
+        }
+        if (o.id != obs.owner || o.status != TrackStatus::kTracked || obs.rejected) continue;
         for (const auto& m : model_.find(o.id)->markers) {
           if (m.id == obs.marker.id && m.family == obs.marker.family) {
             obs.has_pose = true;

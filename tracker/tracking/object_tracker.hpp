@@ -9,6 +9,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "tracker/detection/marker_detector.hpp"
 #include "tracker/pose/camera_model.hpp"
+#include "tracker/pose/marker_consensus.hpp"
 #include "tracker/pose/marker_pose.hpp"
 #include "tracker/pose/pose_filter.hpp"
 
@@ -53,6 +54,7 @@ struct MarkerObservation {
   Pose X_CM = Pose::Identity();
   double rms_px = 0;
   double ambiguity_ratio = 0;
+  bool rejected = false;  // owned, but left out of its object's fit: it disagrees with the others
 };
 
 struct ObjectObservation {
@@ -61,7 +63,9 @@ struct ObjectObservation {
   Pose X_CO = Pose::Identity();  // LOST: the last known pose, not a measurement
   bool world_valid = false;
   Pose X_WO = Pose::Identity();
-  std::vector<int> marker_ids;
+  std::vector<int> marker_ids;           // markers the pose was fitted to
+  std::vector<int> rejected_marker_ids;  // seen, but disagreeing with the others: left out
+  std::string reason;                    // why it is not TRACKED (empty when it is)
   double rms_px = 0;
   double position_sigma_m = 0;
   double rotation_sigma_rad = 0;
@@ -75,6 +79,8 @@ struct TrackingResult {
   Pose X_WC = Pose::Identity();
   int unknown_markers = 0;  // markers of this frame no object declares
   int rejected_poses = 0;   // fits of this frame the pose filter dropped as outliers (PREDICTED instead)
+  int rejected_markers = 0; // owned markers left out of their object's (or the world's) fit
+  int poor_fits = 0;        // object or camera fits above max_fit_rms_px (not TRACKED)
 };
 
 struct TrackerOptions {
@@ -97,6 +103,11 @@ struct TrackerOptions {
   double memory_s = 0.5;
   // Filter on object and camera poses (none by default: the raw fit).
   PoseFilterSpec filter;
+  // Which markers of a multi-marker object agree with the others (marker_consensus.hpp).
+  ConsensusOptions consensus;
+  // An object (or the camera, from the world's markers) whose fit misses its corners by
+  // more than this RMS is not TRACKED: a wrong layout, a misprinted or moved marker.
+  double max_fit_rms_px = 2.0;
 };
 
 // Turns one frame's detected markers into marker and object poses: per-marker IPPE,
@@ -135,6 +146,7 @@ class ObjectTracker {
     bool ok = false;
     PoseFit pose;
     std::vector<int> marker_ids;
+    std::vector<int> rejected_ids;
   };
   // Fits the pose of a rigid set of markers (an object, or the world) from the visible ones.
   Fit fit_rigid_set(const std::vector<MarkerModel>& set, const std::vector<const DetectedMarker*>& seen, Track& track,

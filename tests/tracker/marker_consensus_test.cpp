@@ -1,0 +1,167 @@
+// Multi-marker fits that survive wrong markers: a 12-marker board whose layout has two
+// markers wrong (one mismeasured by 2 cm, one stuck on turned) is fitted to the other ten
+// and names the two; markers that disagree with no majority make no TRACKED pose.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "tests/tracker/tracker_test_support.hpp"
+#include "tracker/pose/marker_consensus.hpp"
+#include "tracker/tracking/object_tracker.hpp"
+
+namespace arphys::tracking {
+namespace {
+
+using geometry::translation_distance_m;
+using testing::test_camera;
+
+// A 4x3 board of 5 cm tags 7 cm apart (ids 0..11), object frame at its centre.
+ObjectModel twelve_marker_board(bool defines_world) {
+  ObjectModel o;
+  o.id = "board";
+  o.defines_world = defines_world;
+  int id = 0;
+  for (double y : {0.07, 0.0, -0.07}) {
+    for (double x : {-0.105, -0.035, 0.035, 0.105}) {
+      o.markers.push_back({"tag36h11", id++, 0.05, geometry::translation_pose({x, y, 0})});
+    }
+  }
+  return o;
+}
+
+// The same board as someone wrote it down wrongly: marker 3 2 cm off in x, marker 8 turned
+// a quarter turn about its normal.
+ObjectModel with_two_wrong_markers(ObjectModel o) {
+  o.markers[3].X_OM.translation().x() += 0.02;
+  o.markers[8].X_OM.linear() = o.markers[8].X_OM.linear() * Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return o;
+}
+
+// Detections of the true board at X_CO, corners with 0.5 px of Gaussian noise.
+std::vector<DetectedMarker> observe(const ObjectModel& truth, const Pose& X_CO, const CameraModel& camera, cv::RNG& rng) {
+  std::vector<DetectedMarker> out;
+  for (const auto& m : truth.markers) {
+    DetectedMarker d;
+    d.family = m.family;
+    d.id = m.id;
+    d.corners_px = true_corners_px(camera, {m.family, m.id, m.size_m, X_CO * m.X_OM});
+    for (auto& c : d.corners_px) c += Eigen::Vector2d(rng.gaussian(0.5), rng.gaussian(0.5));
+    out.push_back(d);
+  }
+  return out;
+}
+
+Pose random_view(const CameraModel& camera, cv::RNG& rng) {
+  return marker_pose_at(camera, rng.uniform(280.0, 360.0), rng.uniform(210.0, 270.0), rng.uniform(0.7, 1.0),
+                        rng.uniform(0.0, 0.6), rng.uniform(0.0, 6.28), rng.uniform(0.0, 6.28));
+}
+
+TEST(MarkerConsensus, TwoWrongMarkersOfTwelveAreNamedAndTheInliersFitIt) {
+  const CameraModel camera = test_camera();
+  const ObjectModel truth = twelve_marker_board(false);
+  TrackerModel right, wrong;
+  right.objects.push_back(truth);
+  wrong.objects.push_back(with_two_wrong_markers(truth));
+  cv::RNG rng(11);
+  std::vector<double> off_right_mm, naive_mm;
+  for (int view = 0; view < 20; ++view) {
+    const Pose X_CO = random_view(camera, rng);
+    const auto found = observe(truth, X_CO, camera, rng);
+    const TrackingResult good = ObjectTracker(right, camera).update(found, 1000000);
+    const TrackingResult r = ObjectTracker(wrong, camera).update(found, 1000000);
+    ASSERT_EQ(good.objects[0].status, TrackStatus::kTracked);
+    ASSERT_EQ(r.objects[0].status, TrackStatus::kTracked) << "view " << view << ": " << r.objects[0].reason;
+    EXPECT_TRUE(good.objects[0].rejected_marker_ids.empty()) << "view " << view;
+    EXPECT_EQ(r.objects[0].rejected_marker_ids, (std::vector<int>{3, 8})) << "view " << view;
+    EXPECT_EQ(r.objects[0].marker_ids.size(), 10u);
+    EXPECT_EQ(r.rejected_markers, 2);
+    EXPECT_LT(r.objects[0].rms_px, 1.0);
+    EXPECT_TRUE(r.markers[3].rejected && r.markers[8].rejected && !r.markers[0].rejected);
+    // Ten markers of the same noise against twelve: within the right fit's own 2 sigma.
+    off_right_mm.push_back(1e3 * translation_distance_m(r.objects[0].X_CO, good.objects[0].X_CO));
+    EXPECT_LE(off_right_mm.back(), 2e3 * good.objects[0].position_sigma_m) << "view " << view;
+    // What one joint fit over all twelve makes of the wrong layout, from the true pose.
+    std::vector<Eigen::Vector3d> p_O;
+    std::vector<Eigen::Vector2d> uv;
+    for (size_t i = 0; i < found.size(); ++i) {
+      const auto corners = marker_corners_M(0.05);
+      for (int k = 0; k < 4; ++k) {
+        p_O.push_back(wrong.objects[0].markers[i].X_OM * corners[k]);
+        uv.push_back(found[i].corners_px[k]);
+      }
+    }
+    const PoseFit naive = refine_pose(p_O, uv, X_CO, camera);
+    naive_mm.push_back(1e3 * translation_distance_m(naive.X_CO, good.objects[0].X_CO));
+  }
+  std::sort(off_right_mm.begin(), off_right_mm.end());
+  std::sort(naive_mm.begin(), naive_mm.end());
+  EXPECT_LE(off_right_mm[10], 1.5);  // median
+  EXPECT_GT(naive_mm[10], 5 * off_right_mm[10]) << naive_mm[10];  // what the consensus saves
+}
+
+// The table's layout with the same two faults: the camera's world pose comes from the ten.
+TEST(MarkerConsensus, TheCameraInTheWorldComesFromTheAgreeingWorldMarkers) {
+  const CameraModel camera = test_camera();
+  const ObjectModel truth = twelve_marker_board(true);
+  TrackerModel right, wrong;
+  right.objects.push_back(truth);
+  wrong.objects.push_back(with_two_wrong_markers(truth));
+  cv::RNG rng(12);
+  for (int view = 0; view < 10; ++view) {
+    const auto found = observe(truth, random_view(camera, rng), camera, rng);
+    const TrackingResult good = ObjectTracker(right, camera).update(found, 1000000);
+    const TrackingResult r = ObjectTracker(wrong, camera).update(found, 1000000);
+    ASSERT_TRUE(r.camera_world_valid) << "view " << view;
+    // Compared as the world in the camera (the camera's own position carries the fit's
+    // rotation noise over the whole distance).
+    EXPECT_LT(translation_distance_m(r.X_WC.inverse(), good.X_WC.inverse()), 3e-3) << "view " << view;
+    EXPECT_LT(geometry::rotation_distance_rad(r.X_WC, good.X_WC), 1.0 * M_PI / 180) << "view " << view;
+    EXPECT_EQ(r.objects[0].rejected_marker_ids, (std::vector<int>{3, 8}));
+  }
+}
+
+// Two markers 3 cm from where the layout puts them relative to each other: neither can be
+// blamed, so both stay, the fit misses by pixels and the object is not TRACKED; after a
+// good frame it is PREDICTED for predict_s, then LOST, each with its reason.
+TEST(MarkerConsensus, MarkersThatDisagreeWithNoMajorityMakeNoTrackedPose) {
+  const CameraModel camera = test_camera();
+  ObjectModel truth = twelve_marker_board(false);
+  truth.markers.resize(2);
+  ObjectModel wrong = truth;
+  wrong.markers[1].X_OM.translation().y() += 0.03;
+  TrackerModel model;
+  model.objects.push_back(wrong);
+  ObjectTracker tracker(model, camera);
+  cv::RNG rng(13);
+  const Pose X_CO = random_view(camera, rng);
+  auto found = observe(truth, X_CO, camera, rng);
+  TrackingResult r = tracker.update(found, 1000000);
+  EXPECT_EQ(r.objects[0].status, TrackStatus::kLost);
+  EXPECT_NE(r.objects[0].reason.find("fit error"), std::string::npos) << r.objects[0].reason;
+  EXPECT_TRUE(r.objects[0].rejected_marker_ids.empty());
+  EXPECT_EQ(r.poor_fits, 1);
+  // One marker alone fits: TRACKED.
+  r = tracker.update({found[0]}, 1033333);
+  ASSERT_EQ(r.objects[0].status, TrackStatus::kTracked);
+  EXPECT_TRUE(r.objects[0].reason.empty());
+  r = tracker.update(found, 1066666);
+  EXPECT_EQ(r.objects[0].status, TrackStatus::kPredicted);
+  EXPECT_NE(r.objects[0].reason.find("fit error"), std::string::npos);
+  r = tracker.update(found, 1300000);
+  EXPECT_EQ(r.objects[0].status, TrackStatus::kLost);
+  r = tracker.update({}, 1400000);
+  EXPECT_EQ(r.objects[0].reason, "not seen for 367 ms");
+  EXPECT_THROW(ObjectTracker(model, camera, TrackerOptions{.max_fit_rms_px = 0}), std::invalid_argument);
+}
+
+TEST(MarkerConsensus, RefusesEmptyInputAndBadBounds) {
+  const CameraModel camera = test_camera();
+  MarkerCorners m;
+  EXPECT_THROW(fit_with_consensus({}, {Pose::Identity()}, camera), std::invalid_argument);
+  EXPECT_THROW(fit_with_consensus({m}, {}, camera), std::invalid_argument);
+  EXPECT_THROW(fit_with_consensus({m}, {Pose::Identity()}, camera, {.marker_outlier_px = -1}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace arphys::tracking
