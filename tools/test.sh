@@ -31,7 +31,7 @@ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=cl
   -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DCMAKE_UNITY_BUILD=OFF >/dev/null
 unit_tests=(geometry_test config_test msg_test collision_test convex_ccd_test dynamics_test sim_process_test tracking_test
             rendering_test)
-fuzzers=(fuzz_messages fuzz_configs fuzz_mesh fuzz_ccd_query)
+fuzzers=(fuzz_messages write_message_seeds fuzz_configs fuzz_mesh fuzz_ccd_query)
 cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
