@@ -98,10 +98,9 @@ TEST(Detectors, CornersHaveNoHalfPixelBias) {
   double sq_at = 0, sq_cv = 0;
   int n_at = 0, n_cv = 0;
   for (int i = 0; i < 40; ++i) {
-    const MarkerPlacement m{"tag36h11", i % 20, 0.08,
-                            marker_pose_at(camera, rng.uniform(200.0, 440.0), rng.uniform(150.0, 330.0),
-                                           rng.uniform(0.4, 1.0), rng.uniform(0.0, 0.8), rng.uniform(0.0, 6.28),
-                                           rng.uniform(0.0, 6.28))};
+    const double u = rng.uniform(200.0, 440.0), v = rng.uniform(150.0, 330.0), distance_m = rng.uniform(0.4, 1.0);
+    const double tilt = rng.uniform(0.0, 0.8), azimuth = rng.uniform(0.0, 6.28), spin = rng.uniform(0.0, 6.28);
+    const MarkerPlacement m{"tag36h11", i % 20, 0.08, marker_pose_at(camera, u, v, distance_m, tilt, azimuth, spin)};
     ImageEffects effects;
     effects.noise_sigma = 2;
     effects.seed = i + 1;

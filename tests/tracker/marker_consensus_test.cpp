@@ -46,15 +46,29 @@ std::vector<DetectedMarker> observe(const ObjectModel& truth, const Pose& X_CO, 
     d.family = m.family;
     d.id = m.id;
     d.corners_px = true_corners_px(camera, {m.family, m.id, m.size_m, X_CO * m.X_OM});
-    for (auto& c : d.corners_px) c += Eigen::Vector2d(rng.gaussian(0.5), rng.gaussian(0.5));
+    for (auto& c : d.corners_px) {
+      c.x() += rng.gaussian(0.5);
+      c.y() += rng.gaussian(0.5);
+    }
     out.push_back(d);
   }
   return out;
 }
 
+// (Draws sequenced: argument evaluation order differs between compilers.)
 Pose random_view(const CameraModel& camera, cv::RNG& rng) {
-  return marker_pose_at(camera, rng.uniform(280.0, 360.0), rng.uniform(210.0, 270.0), rng.uniform(0.7, 1.0),
-                        rng.uniform(0.0, 0.6), rng.uniform(0.0, 6.28), rng.uniform(0.0, 6.28));
+  const double u = rng.uniform(280.0, 360.0), v = rng.uniform(210.0, 270.0), distance_m = rng.uniform(0.7, 1.0);
+  const double tilt = rng.uniform(0.0, 0.6), azimuth = rng.uniform(0.0, 6.28), spin = rng.uniform(0.0, 6.28);
+  return marker_pose_at(camera, u, v, distance_m, tilt, azimuth, spin);
+}
+
+// The detections without the markers the layout has wrong.
+std::vector<DetectedMarker> without_3_and_8(const std::vector<DetectedMarker>& found) {
+  std::vector<DetectedMarker> out;
+  for (const auto& d : found) {
+    if (d.id != 3 && d.id != 8) out.push_back(d);
+  }
+  return out;
 }
 
 TEST(MarkerConsensus, TwoWrongMarkersOfTwelveAreNamedAndTheInliersFitIt) {
@@ -78,9 +92,12 @@ TEST(MarkerConsensus, TwoWrongMarkersOfTwelveAreNamedAndTheInliersFitIt) {
     EXPECT_EQ(r.rejected_markers, 2);
     EXPECT_LT(r.objects[0].rms_px, 1.0);
     EXPECT_TRUE(r.markers[3].rejected && r.markers[8].rejected && !r.markers[0].rejected);
-    // Ten markers of the same noise against twelve: within the right fit's own 2 sigma.
+    // The consensus fit is the fit over the ten agreeing markers alone, to the solver's
+    // convergence; against all twelve right ones it differs by the noise of two markers.
+    const TrackingResult ten = ObjectTracker(right, camera).update(without_3_and_8(found), 1000000);
+    EXPECT_LT(1e3 * translation_distance_m(r.objects[0].X_CO, ten.objects[0].X_CO), 1e-3) << "view " << view;
+    EXPECT_LT(geometry::rotation_distance_rad(r.objects[0].X_CO, ten.objects[0].X_CO), 1e-6) << "view " << view;
     off_right_mm.push_back(1e3 * translation_distance_m(r.objects[0].X_CO, good.objects[0].X_CO));
-    EXPECT_LE(off_right_mm.back(), 2e3 * good.objects[0].position_sigma_m) << "view " << view;
     // What one joint fit over all twelve makes of the wrong layout, from the true pose.
     std::vector<Eigen::Vector3d> p_O;
     std::vector<Eigen::Vector2d> uv;
@@ -112,11 +129,15 @@ TEST(MarkerConsensus, TheCameraInTheWorldComesFromTheAgreeingWorldMarkers) {
     const auto found = observe(truth, random_view(camera, rng), camera, rng);
     const TrackingResult good = ObjectTracker(right, camera).update(found, 1000000);
     const TrackingResult r = ObjectTracker(wrong, camera).update(found, 1000000);
-    ASSERT_TRUE(r.camera_world_valid) << "view " << view;
-    // Compared as the world in the camera (the camera's own position carries the fit's
-    // rotation noise over the whole distance).
+    const TrackingResult ten = ObjectTracker(right, camera).update(without_3_and_8(found), 1000000);
+    ASSERT_TRUE(r.camera_world_valid && good.camera_world_valid && ten.camera_world_valid) << "view " << view;
+    // The camera's world pose is that of the ten agreeing markers alone; against all
+    // twelve it differs by two markers' noise. Compared as the world in the camera (the
+    // camera's own position carries the fit's rotation noise over the whole distance).
+    EXPECT_LT(translation_distance_m(r.X_WC.inverse(), ten.X_WC.inverse()), 1e-6) << "view " << view;
+    EXPECT_LT(geometry::rotation_distance_rad(r.X_WC, ten.X_WC), 1e-6) << "view " << view;
     EXPECT_LT(translation_distance_m(r.X_WC.inverse(), good.X_WC.inverse()), 3e-3) << "view " << view;
-    EXPECT_LT(geometry::rotation_distance_rad(r.X_WC, good.X_WC), 1.0 * M_PI / 180) << "view " << view;
+    EXPECT_LT(geometry::rotation_distance_rad(r.X_WC, good.X_WC), 2.0 * M_PI / 180) << "view " << view;
     EXPECT_EQ(r.objects[0].rejected_marker_ids, (std::vector<int>{3, 8}));
   }
 }
@@ -152,15 +173,21 @@ TEST(MarkerConsensus, MarkersThatDisagreeWithNoMajorityMakeNoTrackedPose) {
   EXPECT_EQ(r.objects[0].status, TrackStatus::kLost);
   r = tracker.update({}, 1400000);
   EXPECT_EQ(r.objects[0].reason, "not seen for 367 ms");
-  EXPECT_THROW(ObjectTracker(model, camera, TrackerOptions{.max_fit_rms_px = 0}), std::invalid_argument);
+  TrackerOptions no_fit_allowed;
+  no_fit_allowed.max_fit_rms_px = 0;
+  EXPECT_THROW(ObjectTracker(model, camera, no_fit_allowed), std::invalid_argument);
 }
 
 TEST(MarkerConsensus, RefusesEmptyInputAndBadBounds) {
   const CameraModel camera = test_camera();
   MarkerCorners m;
+  m.p_O.fill(Eigen::Vector3d::Zero());
+  m.uv_px.fill(Eigen::Vector2d::Zero());
+  ConsensusOptions negative;
+  negative.marker_outlier_px = -1;
   EXPECT_THROW(fit_with_consensus({}, {Pose::Identity()}, camera), std::invalid_argument);
   EXPECT_THROW(fit_with_consensus({m}, {}, camera), std::invalid_argument);
-  EXPECT_THROW(fit_with_consensus({m}, {Pose::Identity()}, camera, {.marker_outlier_px = -1}), std::invalid_argument);
+  EXPECT_THROW(fit_with_consensus({m}, {Pose::Identity()}, camera, negative), std::invalid_argument);
 }
 
 }  // namespace

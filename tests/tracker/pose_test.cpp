@@ -71,9 +71,9 @@ TEST(MarkerPose, SingleTagAtHalfAMetre) {
   cv::RNG rng(3);
   std::vector<double> position_mm, rotation_deg;
   for (int i = 0; i < 30; ++i) {
-    const MarkerPlacement m{"tag36h11", 2, 0.05,
-                            marker_pose_at(camera, rng.uniform(260.0, 380.0), rng.uniform(200.0, 280.0), 0.5,
-                                           rng.uniform(0.35, 0.7), rng.uniform(0.0, 6.28), rng.uniform(0.0, 6.28))};
+    const double u = rng.uniform(260.0, 380.0), v = rng.uniform(200.0, 280.0), tilt = rng.uniform(0.35, 0.7);
+    const double azimuth = rng.uniform(0.0, 6.28), spin = rng.uniform(0.0, 6.28);  // sequenced draws
+    const MarkerPlacement m{"tag36h11", 2, 0.05, marker_pose_at(camera, u, v, 0.5, tilt, azimuth, spin)};
     ImageEffects effects;
     effects.noise_sigma = 2;
     effects.seed = i + 1;
@@ -100,8 +100,9 @@ TEST(ObjectPose, JointFitOfAFourMarkerBoard) {
   std::vector<double> position_mm, rotation_deg;
   for (int i = 0; i < 25; ++i) {
     ObjectTracker tracker(model, camera);  // independent views: no prediction helps
-    const Pose X_CO = marker_pose_at(camera, rng.uniform(260.0, 380.0), rng.uniform(200.0, 280.0), 0.5,
-                                     rng.uniform(0.0, 0.6), rng.uniform(0.0, 6.28), rng.uniform(0.0, 6.28));
+    const double u = rng.uniform(260.0, 380.0), v = rng.uniform(200.0, 280.0), tilt = rng.uniform(0.0, 0.6);
+    const double azimuth = rng.uniform(0.0, 6.28), spin = rng.uniform(0.0, 6.28);  // sequenced draws
+    const Pose X_CO = marker_pose_at(camera, u, v, 0.5, tilt, azimuth, spin);
     ImageEffects effects;
     effects.noise_sigma = 2;
     effects.seed = i + 1;
@@ -136,7 +137,8 @@ TEST(ObjectPose, TheBoardThroughABarrelLensNearTheImageCorners) {
   std::vector<double> position_mm, pinhole_mm;
   for (int i = 0; i < 12; ++i) {
     const double u = i % 2 ? 520.0 : 120.0, v = (i / 2) % 2 ? 370.0 : 110.0;
-    const Pose X_CO = marker_pose_at(camera, u, v, 0.5, rng.uniform(0.0, 0.5), rng.uniform(0.0, 6.28), rng.uniform(0.0, 6.28));
+    const double tilt = rng.uniform(0.0, 0.5), azimuth = rng.uniform(0.0, 6.28), spin = rng.uniform(0.0, 6.28);
+    const Pose X_CO = marker_pose_at(camera, u, v, 0.5, tilt, azimuth, spin);
     // (marker_pose_at aims through the pinhole pixel; the lens shows it elsewhere, still in view)
     ImageEffects effects;
     effects.noise_sigma = 2;
@@ -289,7 +291,8 @@ TEST(PoseFilter, CutsJitterWithBoundedLag) {
   cv::RNG rng(5);
   double raw_sq = 0, filtered_sq = 0;
   for (int i = 0; i < 300; ++i) {
-    Pose X = geometry::translation_pose({rng.gaussian(1e-3), rng.gaussian(1e-3), 0.5 + rng.gaussian(1e-3)});
+    const double x = rng.gaussian(1e-3), y = rng.gaussian(1e-3), z = 0.5 + rng.gaussian(1e-3);  // sequenced
+    Pose X = geometry::translation_pose({x, y, z});
     const Pose Y = filter.filter(X, i / 30.0);
     if (i < 30) continue;
     raw_sq += (X.translation() - Eigen::Vector3d(0, 0, 0.5)).squaredNorm();

@@ -22,15 +22,21 @@ cv::Mat clutter_background(int width_px, int height_px, uint32_t seed) {
   }
   for (int i = 0; i < 60; ++i) {
     const cv::Scalar level(rng.uniform(20, 235));
-    const cv::Point a(rng.uniform(0, width_px), rng.uniform(0, height_px));
+    // Each draw its own statement: the order of a call's arguments differs between
+    // compilers, and the picture must not.
+    const int ax = rng.uniform(0, width_px), ay = rng.uniform(0, height_px);
+    const cv::Point a(ax, ay);
     switch (rng.uniform(0, 3)) {
-      case 0:
-        cv::rectangle(image, a, a + cv::Point(rng.uniform(5, 80), rng.uniform(5, 80)), level, cv::FILLED, cv::LINE_AA);
+      case 0: {
+        const int w = rng.uniform(5, 80), h = rng.uniform(5, 80);
+        cv::rectangle(image, a, a + cv::Point(w, h), level, cv::FILLED, cv::LINE_AA);
         break;
+      }
       case 1: cv::circle(image, a, rng.uniform(3, 40), level, cv::FILLED, cv::LINE_AA); break;
-      default:
-        cv::line(image, a, cv::Point(rng.uniform(0, width_px), rng.uniform(0, height_px)), level, rng.uniform(1, 4),
-                 cv::LINE_AA);
+      default: {
+        const int bx = rng.uniform(0, width_px), by = rng.uniform(0, height_px), thickness = rng.uniform(1, 4);
+        cv::line(image, a, cv::Point(bx, by), level, thickness, cv::LINE_AA);
+      }
     }
   }
   cv::GaussianBlur(image, image, cv::Size(3, 3), 0.7);
