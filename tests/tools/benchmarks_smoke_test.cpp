@@ -129,7 +129,7 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   const auto sequence = read_csv(out + "/track_sequence.csv");
   EXPECT_EQ(values_of(sequence, "config"),
             (std::set<std::string>{"apriltag_d1", "apriltag_d2", "apriltag_d2_raw", "apriltag_d4", "apriltag_roi",
-                                   "aruco_subpix", "aruco_subpix_raw"}));
+                                   "aruco_subpix", "aruco_subpix_raw", "aruco_t20", "aruco_roi", "aruco_roi_t20"}));
   const auto full = rows_where(sequence, "config", "apriltag_d1");
   ASSERT_EQ(full.size(), 1u);
   EXPECT_EQ(number(full[0], "recall_vs_d1"), 1.0);
@@ -141,6 +141,8 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   };
   EXPECT_LT(tag_mm("apriltag_d2"), tag_mm("apriltag_d2_raw"));
   EXPECT_LT(tag_mm("aruco_subpix"), tag_mm("aruco_subpix_raw"));
+  // ArUco's predictive search keeps its lone tag as accurate as the whole-frame search.
+  EXPECT_LT(tag_mm("aruco_roi"), 2 * tag_mm("aruco_subpix"));
   // The nearest cells of the sweep (20 cm away): every view found.
   const auto near = rows_where(rows_where(read_csv(out + "/track_sweep.csv"), "config", "apriltag_d1"), "distance_m", "0.2");
   ASSERT_FALSE(near.empty());

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <stdexcept>
 
-
 #include "tracker/detection/param_parsing.hpp"
+#include "tracker/detection/predictive_search.hpp"
 
 namespace arphys::tracking {
 
@@ -27,20 +27,6 @@ apriltag_detector_t* create_detector(std::vector<AprilTagFamilyHandle>& families
   detector->decode_sharpening = 0.25;
   return detector;
 }
-
-cv::Rect marker_bounds(const DetectedMarker& m) {
-  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
-  for (const auto& c : m.corners_px) {
-    x0 = std::min(x0, c.x());
-    y0 = std::min(y0, c.y());
-    x1 = std::max(x1, c.x());
-    y1 = std::max(y1, c.y());
-  }
-  return cv::Rect(cv::Point(static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0))),
-                  cv::Point(static_cast<int>(std::ceil(x1)) + 1, static_cast<int>(std::ceil(y1)) + 1));
-}
-
-bool same_marker(const DetectedMarker& a, const DetectedMarker& b) { return a.id == b.id && a.family == b.family; }
 
 }  // namespace
 
@@ -66,7 +52,7 @@ std::string AprilTagDetector::describe() const {
   for (size_t i = 0; i < families_.size(); ++i) out << (i ? "," : "") << families_[i].name();
   out << " decimate=" << decimate_ << " sigma=" << detector_->quad_sigma << " refine_edges=" << detector_->refine_edges
       << " threads=" << detector_->nthreads;
-  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << scan_tiles_;
+  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles();
   return out.str();
 }
 
@@ -89,12 +75,12 @@ void AprilTagDetector::set_param(const std::string& name, const std::string& val
   } else if (name == "roi_tracking") {
     roi_tracking_ = parse_param_bool(name, value);
     detector_->quad_decimate = static_cast<float>(roi_tracking_ ? coarse_decimate_ : decimate_);
-    previous_.clear();
+    search_.reset();
   } else if (name == "coarse_decimate") {
     coarse_decimate_ = parse_param_double(name, value, 1.0, 8.0);
     if (roi_tracking_) detector_->quad_decimate = static_cast<float>(coarse_decimate_);
   } else if (name == "scan_tiles") {
-    scan_tiles_ = parse_param_int(name, value, 0, 256);
+    search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
   } else {
     throw std::invalid_argument("apriltag has no parameter '" + name +
                                 "' (expected decimate, sigma, refine_edges, sharpening, threads, max_hamming, "
@@ -142,53 +128,12 @@ std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& g
   }
   fine_detector_->quad_sigma = detector_->quad_sigma;
   fine_detector_->decode_sharpening = detector_->decode_sharpening;
-  const cv::Rect frame(0, 0, gray.cols, gray.rows);
-
-  std::vector<DetectedMarker> found = detect_region(detector_, gray, frame);
-  auto merge = [&found](std::vector<DetectedMarker>&& fine) {
-    // Full-resolution corners replace coarse ones for the same marker.
-    for (auto& m : fine) {
-      auto it = std::find_if(found.begin(), found.end(), [&](const DetectedMarker& f) { return same_marker(f, m); });
-      if (it != found.end()) {
-        *it = std::move(m);
-      } else {
-        found.push_back(std::move(m));
-      }
-    }
-  };
-
-  // Markers of last frame that the coarse pass missed (too small for it) are searched
-  // again in a window around their last corners: the bounds grown by half their size
-  // (inter-frame motion) and a quiet-zone margin, at full resolution for small markers
-  // and half resolution for the others. Markers the coarse pass found need no window:
-  // their corners are refined at full resolution by the pipeline anyway.
-  for (const auto& m : previous_) {
-    if (std::any_of(found.begin(), found.end(), [&](const DetectedMarker& f) { return same_marker(f, m); })) continue;
-    const cv::Rect b = marker_bounds(m);
-    const int side = std::max(b.width, b.height);
-    const int grow = std::max(12, side / 2);
-    const cv::Rect w = cv::Rect(b.x - grow, b.y - grow, b.width + 2 * grow, b.height + 2 * grow) & frame;
-    if (w.area() <= 0) continue;
-    fine_detector_->quad_decimate = side < 40 ? 1.0f : 2.0f;
-    merge(detect_region(fine_detector_, gray, w));
-  }
-
-  // One scan tile per frame at full resolution, tiles overlapping by 32 px so that any
-  // marker the coarse pass is too coarse for (< ~60 px) lies wholly inside one of them.
-  if (scan_tiles_ > 0) {
-    const int columns = static_cast<int>(std::ceil(std::sqrt(scan_tiles_ * 4.0 / 3.0)));
-    const int rows = (scan_tiles_ + columns - 1) / columns;
-    const int tile = next_tile_ % (columns * rows);
-    next_tile_ = (next_tile_ + 1) % (columns * rows);
-    const int w = (gray.cols + columns - 1) / columns, h = (gray.rows + rows - 1) / rows;
-    const int overlap = 32;
-    const cv::Rect region =
-        cv::Rect((tile % columns) * w - overlap, (tile / columns) * h - overlap, w + 2 * overlap, h + 2 * overlap) & frame;
-    fine_detector_->quad_decimate = 1.0f;
-    merge(detect_region(fine_detector_, gray, region));
-  }
-  previous_ = found;
-  return found;
+  return search_.detect(
+      gray, [this](const cv::Mat& g) { return detect_region(detector_, g, cv::Rect(0, 0, g.cols, g.rows)); },
+      [this](const cv::Mat& g, const cv::Rect& region, int decimation) {
+        fine_detector_->quad_decimate = static_cast<float>(decimation);
+        return detect_region(fine_detector_, g, region);
+      });
 }
 
 }  // namespace arphys::tracking

@@ -5,6 +5,7 @@
 
 #include "tracker/detection/apriltag_family_handle.hpp"
 #include "tracker/detection/marker_detector.hpp"
+#include "tracker/detection/predictive_search.hpp"
 
 struct apriltag_detector;
 
@@ -16,13 +17,10 @@ namespace arphys::tracking {
 // pixels; 0), refine_edges (1), sharpening (decode_sharpening; 0.25), threads (1),
 // max_hamming (bits corrected, 0..2; 2).
 //
-// Predictive search (roi_tracking = 1, for video): every frame is searched at a coarse
-// decimation (coarse_decimate, default 4: finds markers of >= ~60 px anywhere); markers
-// of the previous frame the coarse pass missed are searched again in a window around
-// their last corners; and one of scan_tiles tiles of the frame (default 64, in turn) is
-// searched at full resolution, so a small marker that appears anywhere is found within
-// scan_tiles frames. reset_prediction() forgets the previous frame (independent pictures).
-// Corner accuracy comes from the pipeline's edge refinement, not the decimation.
+// Predictive search (roi_tracking = 1, for video; predictive_search.hpp): the coarse pass
+// runs at coarse_decimate (default 4: finds markers of >= ~60 px anywhere), windows and
+// scan tiles (scan_tiles, default 64) at full or half resolution. reset_prediction()
+// forgets the previous frame (independent pictures).
 //
 // Corners come out in OpenCV's convention: libapriltag puts pixel centres at (0.5, 0.5)
 // (apriltag issue #121), so 0.5 px is subtracted from each coordinate.
@@ -36,7 +34,7 @@ class AprilTagDetector final : public MarkerDetector {
   std::string describe() const override;
   void set_param(const std::string& name, const std::string& value) override;
   std::vector<std::string> families() const override;
-  void reset_prediction() override { previous_.clear(); }
+  void reset_prediction() override { search_.reset(); }
 
  private:
   std::vector<DetectedMarker> detect_region(apriltag_detector* detector, const cv::Mat& gray, const cv::Rect& region);
@@ -49,9 +47,7 @@ class AprilTagDetector final : public MarkerDetector {
   double decimate_ = 2.0;
   bool roi_tracking_ = false;
   double coarse_decimate_ = 4.0;
-  int scan_tiles_ = 64;
-  int next_tile_ = 0;
-  std::vector<DetectedMarker> previous_;
+  PredictiveSearch search_;
 };
 
 }  // namespace arphys::tracking

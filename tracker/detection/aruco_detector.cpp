@@ -3,6 +3,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "tracker/detection/marker_family.hpp"
 #include "tracker/detection/param_parsing.hpp"
 
@@ -20,6 +22,9 @@ ArucoDetector::ArucoDetector(const std::vector<std::string>& families) : family_
   parameters_ = cv::aruco::DetectorParameters::create();
   parameters_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
   parameters_->cornerRefinementWinSize = 2;
+  // ArUco's corners are only as fine as the grid it searched: a small marker the coarse
+  // pass found is found again at full resolution.
+  search_.set_refine_coarse_below_px(60);
 }
 
 std::string ArucoDetector::describe() const {
@@ -29,6 +34,7 @@ std::string ArucoDetector::describe() const {
   out << " corner_refinement=" << refinement_;
   if (refinement_ == "subpix") out << " subpix_window=" << parameters_->cornerRefinementWinSize;
   if (parameters_->useAruco3Detection) out << " aruco3=1";
+  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles();
   return out.str();
 }
 
@@ -51,9 +57,23 @@ void ArucoDetector::set_param(const std::string& name, const std::string& value)
     parameters_->cornerRefinementWinSize = parse_param_int(name, value, 1, 20);
   } else if (name == "aruco3") {
     parameters_->useAruco3Detection = parse_param_bool(name, value);
+  } else if (name == "min_marker_fraction") {
+    parameters_->minMarkerLengthRatioOriginalImg = static_cast<float>(parse_param_double(name, value, 0.0, 1.0));
+  } else if (name == "canonical_px") {
+    parameters_->minSideLengthCanonicalImg = parse_param_int(name, value, 8, 128);
+  } else if (name == "threshold_step") {
+    parameters_->adaptiveThreshWinSizeStep = parse_param_int(name, value, 1, 100);
+  } else if (name == "roi_tracking") {
+    roi_tracking_ = parse_param_bool(name, value);
+    search_.reset();
+  } else if (name == "coarse_decimate") {
+    coarse_decimate_ = parse_param_int(name, value, 1, 8);
+  } else if (name == "scan_tiles") {
+    search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
   } else {
     throw std::invalid_argument("aruco has no parameter '" + name +
-                                "' (expected corner_refinement, subpix_window, aruco3)");
+                                "' (expected corner_refinement, subpix_window, aruco3, min_marker_fraction, "
+                                "canonical_px, threshold_step, roi_tracking, coarse_decimate, scan_tiles)");
   }
 }
 
@@ -61,11 +81,25 @@ std::vector<DetectedMarker> ArucoDetector::detect(const cv::Mat& gray) {
   if (gray.empty() || gray.type() != CV_8UC1) {
     throw std::invalid_argument("ArucoDetector::detect: expected a non-empty 8-bit single-channel image");
   }
+  if (!roi_tracking_) return detect_region(gray, cv::Rect(0, 0, gray.cols, gray.rows), 1);
+  return search_.detect(
+      gray, [this](const cv::Mat& g) { return detect_region(g, cv::Rect(0, 0, g.cols, g.rows), coarse_decimate_); },
+      [this](const cv::Mat& g, const cv::Rect& region, int decimation) { return detect_region(g, region, decimation); });
+}
+
+std::vector<DetectedMarker> ArucoDetector::detect_region(const cv::Mat& gray, const cv::Rect& region, int decimation) {
+  cv::Mat image = gray(region);
+  if (decimation > 1) {
+    cv::Mat small;
+    cv::resize(image, small, cv::Size(), 1.0 / decimation, 1.0 / decimation, cv::INTER_AREA);
+    image = small;
+  }
+  const double fx = static_cast<double>(region.width) / image.cols, fy = static_cast<double>(region.height) / image.rows;
   std::vector<DetectedMarker> markers;
   for (const auto& d : dictionaries_) {
     std::vector<std::vector<cv::Point2f>> corners;
     std::vector<int> ids;
-    cv::aruco::detectMarkers(gray, d.dictionary, corners, ids, parameters_);
+    cv::aruco::detectMarkers(image, d.dictionary, corners, ids, parameters_);
     for (size_t i = 0; i < ids.size(); ++i) {
       DetectedMarker m;
       m.family = d.family;
@@ -77,12 +111,14 @@ std::vector<DetectedMarker> ArucoDetector::detect(const cv::Mat& gray) {
       const int* order = d.apriltag_layout ? kAprilTag : kClassic;
       for (int k = 0; k < 4; ++k) {
         const cv::Point2f& p = corners[i][order[k]];
-        m.corners_px[k] = Eigen::Vector2d(p.x, p.y);
+        // Pixel centres at integers on both grids: x_full + 0.5 = (x_small + 0.5) * f.
+        m.corners_px[k] = Eigen::Vector2d((p.x + 0.5) * fx - 0.5 + region.x, (p.y + 0.5) * fy - 0.5 + region.y);
       }
       markers.push_back(std::move(m));
     }
   }
   return markers;
 }
+
 
 }  // namespace arphys::tracking
