@@ -1,6 +1,6 @@
 #pragma once
 // Continuous collision query between two triangle meshes, each moving on its own
-// screw motion from its pose at t = 0 to its pose at t = 1 (METHOD.md section 1):
+// screw motion from its pose at t = 0 to its pose at t = 1 (docs/method.md section 1):
 // a best-first traversal of the pair of OBB trees over (node pair, time interval),
 // culled by interval separating-axis tests with time subdivision, ending in the exact
 // vertex/face and edge/edge tests of the triangle pairs that survive.

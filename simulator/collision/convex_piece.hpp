@@ -1,6 +1,6 @@
 #pragma once
-// A convex polyhedron of a body's collision model (docs/method.md, "Model no more than a
-// scene needs"): a dynamic concave body collides as a few convex pieces, whose contacts
+// A convex polyhedron of a body's collision model (docs/method.md section 4: model no more than a
+// scene needs): a dynamic concave body collides as a few convex pieces, whose contacts
 // come from separating axes with signed depths, not from every triangle pair of a scan.
 // A piece is built from its closed hull mesh and refused, with the reason, when it is
 // not one.

@@ -1,6 +1,6 @@
 #pragma once
 // Exact elementary continuous tests between two moving triangles: the three
-// vertex/face pairs each way and the nine edge/edge pairs (METHOD.md section 1.4).
+// vertex/face pairs each way and the nine edge/edge pairs (docs/method.md section 1.4).
 //
 // Each pair's coplanarity function and its in-face / in-edge conditions are enclosed
 // over a time interval in interval arithmetic (mean-value form for the linear ones);

@@ -51,7 +51,7 @@ inline Interval hull(const Interval& a, const Interval& b) { return {std::min(a.
 inline Interval operator+(const Interval& a, const Interval& b) {
   return {interval_detail::down(a.lo + b.lo), interval_detail::up(a.hi + b.hi)};
 }
-// [a, b] - [c, d] = [a - d, b - c]  (METHOD.md notes the paper's equation (7) typo).
+// [a, b] - [c, d] = [a - d, b - c]  (docs/method.md notes the paper's equation (7) typo).
 inline Interval operator-(const Interval& a, const Interval& b) {
   return {interval_detail::down(a.lo - b.hi), interval_detail::up(a.hi - b.lo)};
 }

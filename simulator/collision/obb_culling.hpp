@@ -2,7 +2,7 @@
 // Separating-axis tests between oriented boxes: static (with a margin, for the
 // discrete queries and contact manifolds) and continuous, where box B moves relative
 // to box A over a time interval and the 15 axis inequalities are evaluated in
-// interval arithmetic (METHOD.md section 1.3). A "separated" answer is certain: the
+// interval arithmetic (docs/method.md section 1.3). A "separated" answer is certain: the
 // right-hand sides are rounded up with a proven bound and the left-hand sides are
 // outward-rounded enclosures.
 #include "simulator/collision/interval.hpp"

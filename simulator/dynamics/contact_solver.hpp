@@ -1,5 +1,5 @@
 #pragma once
-// Contact dynamics by Gauss's principle of least constraint (METHOD.md section 2), at
+// Contact dynamics by Gauss's principle of least constraint (docs/method.md section 2), at
 // the velocity level of one time step: the new velocities are the admissible ones
 // closest to the unconstrained ones in the kinetic metric,
 //   u+ = argmin 1/2 (u - u*)^T M (u - u*)   subject to   J u >= beta,

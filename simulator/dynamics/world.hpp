@@ -1,5 +1,5 @@
 #pragma once
-// The simulated world: bodies, and the time stepping of METHOD.md section 2 driven by
+// The simulated world: bodies, and the time stepping of docs/method.md section 2 driven by
 // the CCD of section 1. One step of dt:
 //   1. contacts: every feature pair closer than contact_tolerance_m;
 //   2. unconstrained velocities: gravity and gyroscopic terms over the time left;

@@ -5,7 +5,7 @@
 
 namespace arphys::geometry {
 
-// The screw motion between two poses of a body (METHOD.md section 1):
+// The screw motion between two poses of a body (docs/method.md section 1):
 //   X(t) = exp(t log(X1 X0^-1)) X0,   t in [0, 1],
 // a rotation at constant rate about a fixed world axis plus a constant translation
 // along that axis. The rotation angle is taken in [0, pi]; at exactly pi the axis
