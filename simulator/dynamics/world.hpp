@@ -77,7 +77,7 @@ struct WorldOptions {
   // leaves deeper than overlap_tolerance_m, with nothing meeting inside the step, are
   // lifted out by moving the end poses (post-stabilisation, position_projection.hpp)
   // instead of by a velocity constraint and another solve of the step. False: every
-  // such point is a constraint of a re-solve, as before the twenty-eighth session.
+  // such point is a constraint of a re-solve (docs/decisions/0004).
   bool project_deep_points = true;
   // Launch guard (see World::solve and StepReport::launches_prevented): speed (of a
   // body's kinetic energy) a solve may add beyond twice the fastest body it couples and

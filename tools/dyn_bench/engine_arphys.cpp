@@ -76,8 +76,8 @@ std::unique_ptr<Engine> make_arphys_engine(const std::string& variant) {
   if (variant == "arphys-10um")
     return std::make_unique<ArphysEngine>(variant, [](dynamics::WorldOptions& o) { o.contact_gap_m = o.overlap_tolerance_m = 1e-5; });
   // Resting points left too deep lifted by a velocity constraint and a re-solve of the
-  // step, not by moving end poses (WorldOptions::project_deep_points; the engine until
-  // the twenty-eighth session).
+  // step, not by moving end poses (WorldOptions::project_deep_points = false;
+  // docs/decisions/0004).
   if (variant == "arphys-resolve")
     return std::make_unique<ArphysEngine>(variant, [](dynamics::WorldOptions& o) { o.project_deep_points = false; });
   throw std::invalid_argument("unknown arphys variant '" + variant + "'");

@@ -383,23 +383,9 @@ def main():
     w("## Where we fall short\n")
     w("Derived from this run's figures:\n")
     w("\n".join(f"- {s}" for s in shortfalls) if shortfalls else "- none in this run's figures.")
-    w("\nKnown and not measured by a chart here: application 2 steps at 20 ms (configs/scenes/bunny_box_table.yaml); "
-      "on 2 cores its simulator keeps up while the bunnies rest (6-7 ms per step since the thirteenth session), but "
-      "falls behind while the tracked box pushes a pile of 15-20 of them: 20-40 ms per 20 ms step from about "
-      "t = 12 s of the main job, up to 1000 ms of CPU per second replayed into the simulator alone (sixteenth session; "
-      "7.0 s of CPU over the 20 s replay since the eighteenth, against 8.0 s; docs/pipeline.md). Since the twentieth "
-      "session the launcher bounds that lag (--sim-max-lag-s, 0.1 s): the simulator gives up simulation time past it "
-      "and the bunnies run slow for that moment (1-3 s given up in a 20 s main job; pose -> world state max "
-      "91-186 ms against 614-1489 ms unbounded). The quick run has no "
-      "N = 1000 drop, where we stay within a few micrometres of overlap but are far slower per step than ODE "
-      "quickstep: 4.5x frictionless and 6x with friction over the first second (4-5x and 6x allowing 10 um, the "
-      "arphys-10um rows); over the 2 s the anchor measured, 3-3.8x with friction (isotropic Coulomb friction since the "
-      "nineteenth session) and 9.7x frictionless since the twenty-eighth session, which lifts resting boxes left "
-      "micrometres too deep by moving their end poses instead of solving the pile again (12.7-13.8x without that, the "
-      "arphys-resolve rows; 9.5-11.8x in the twenty-first and twenty-fourth sessions' runs; 50x before resting pairs of "
-      "boxes were left unswept up to 10 mm of relative motion a step, in the seventeenth), where the pile spreads over "
-      "its frictionless floor and every strike is an exact impact (7.6x allowing 10 um; docs/dynamics.md, scene 6). "
-      "Same-run ratios moved by a fifth between runs of the same code on this shared machine.\n")
+    w("\nNot measured by this evaluation: the main job's simulator load (`arphys-eval-studies main-job-load`, "
+      "docs/pipeline.md) and the 1000-box pile against ODE quickstep (docs/dynamics.md, \"Figures\"); each is "
+      "dated there with the command that measured it.\n")
     with open(a.doc, "w") as f:
         f.write("\n".join(md) + "\n")
     print(f"written: {a.doc}")
