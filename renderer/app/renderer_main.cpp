@@ -38,6 +38,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/frame_order.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/image_message.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
@@ -268,6 +269,7 @@ int main(int argc, char** argv) {
   std::optional<arphys::image_t> pending, superseded;
   std::chrono::steady_clock::time_point pending_arrival;
   BadInput bad;
+  msg::FrameOrder frame_order;
   int64_t frames_dropped = 0, past_the_wait = 0;
   // How long the pending frame may still wait for its own world state (ms; 0: draw it now).
   const auto wait_left_ms = [&]() -> double {
@@ -289,6 +291,14 @@ int main(int argc, char** argv) {
                                          });
   bus->subscribe<arphys::image_t>(scene.channels.camera_image,
                                   [&](const arphys::image_t& m, const lcm::ReceiveBuffer&, const std::string&) {
+                                    // A frame already handled (re-sent, replayed) or older than one
+                                    // is not drawn again: counted, and the video stays in order.
+                                    const auto verdict = frame_order.check(m.camera_id, m.seq, m.utime);
+                                    if (verdict != msg::FrameOrder::Verdict::kNew) {
+                                      bad.note(std::string(msg::to_string(verdict)) + " camera frame",
+                                               m.camera_id + " seq " + std::to_string(m.seq));
+                                      return;
+                                    }
                                     // Keep the newest: latency over completeness. A frame held by the
                                     // wait is drawn, not dropped, unless one is already due.
                                     if (pending && wait_left_ms() > 0 && !superseded) {

@@ -1,6 +1,7 @@
 // Hostile traffic against the running pipeline (application 2 through the launcher):
 // arphys-fault sends random and truncated bytes on every channel, bad images, NaN and
-// non-unit poses, frames going backwards, a spawn flood and image bursts. No process
+// non-unit poses, frames going backwards, camera frames replayed, a spawn flood and image
+// bursts. No process
 // dies (the launcher exits 0), every process counts what it refused, and no world state
 // ever holds a non-finite pose or a virtual body that jumped.
 #include <gtest/gtest.h>
@@ -14,6 +15,7 @@
 
 #include "arphys/process_status_t.hpp"
 #include "arphys/world_state_t.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "tests/support/launch_watch.hpp"
 
 namespace {
@@ -51,6 +53,11 @@ TEST(FaultInjection, PipelineSurvivesHostileTrafficAndCountsIt) {
   EXPECT_GT(last["tracker"].rejected, 0);         // wrong-size frames, bad controls
   EXPECT_GT(last["renderer"].decode_errors, 0);
   EXPECT_GT(last["renderer"].rejected, 0);
+  // Camera frames sent twice or older than one already seen: refused by name, not drawn or
+  // tracked again.
+  EXPECT_GT(arphys::msg::figure(last["renderer"], "duplicate camera frame").value_or(0), 0);
+  EXPECT_GT(arphys::msg::figure(last["renderer"], "out-of-order camera frame").value_or(0), 0);
+  EXPECT_GT(arphys::msg::figure(last["tracker"], "duplicate_or_out_of_order_frames").value_or(0), 0);
 }
 
 }  // namespace

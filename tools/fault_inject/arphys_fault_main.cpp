@@ -3,7 +3,7 @@
 // random bytes and truncated copies of real messages (every channel), images of the
 // wrong size, undecodable JPEGs and unknown pixel formats, tracked poses with NaN, inf,
 // non-unit quaternions and unknown objects, sequence numbers going backwards and
-// repeating, a flood of spawn requests beyond every limit (count, distance, speed), and
+// repeating, camera frames replayed and older, a flood of spawn requests beyond every limit (count, distance, speed), and
 // bursts of images at ten times the camera's rate. What each process does with it shows
 // in its heartbeat counters; the processes must not crash, hang or publish NaN.
 #include <CLI/CLI.hpp>
@@ -163,6 +163,19 @@ int main(int argc, char** argv) {
     control.implementation = "no-such-detector";
     bus->publish(ch.tracker_control, control);
     ++sent["bad tracker controls"];
+
+    // A valid frame sent again (a replay) and one from before it: neither is tracked or
+    // drawn a second time.
+    {
+      arphys::image_t frame = gray_image(now, 6000000 + round, 640, 480, 100);
+      frame.camera_id = "fault-replay";
+      bus->publish(ch.camera_image, frame);
+      bus->publish(ch.camera_image, frame);
+      frame.utime -= 1000000;
+      frame.seq -= 1;
+      bus->publish(ch.camera_image, frame);
+      sent["replayed/older camera frames"] += 2;
+    }
 
     // A burst: ten valid-size frames at once (ten times a camera's rate).
     if (round % 10 == 0) {

@@ -10,6 +10,11 @@ LcmImageSource::LcmImageSource(msg::Bus& bus, const std::string& channel) : bus_
 }
 
 void LcmImageSource::on_image(const arphys::image_t& image) {
+  // A frame already seen (re-sent, replayed) or older than one is not tracked again.
+  if (order_.check(image.camera_id, image.seq, image.utime) != msg::FrameOrder::Verdict::kNew) {
+    ++out_of_order_;
+    return;
+  }
   Frame frame;
   frame.capture_utime = image.utime;
   frame.seq = image.seq;

@@ -260,12 +260,14 @@ int main(int argc, char** argv) {
       status.published = published;
       status.dropped = lcm_frames ? lcm_frames->dropped_frames() : 0;
       status.decode_errors += frames->skipped_frames();
-      status.rejected += c.wrong_size + c.wrong_format;
+      const int64_t out_of_order = lcm_frames ? lcm_frames->out_of_order_frames() : 0;
+      status.rejected += c.wrong_size + c.wrong_format + out_of_order;
       status.state = frames_since_status ? "tracking" : "waiting for frames";
       const std::vector<std::pair<std::string, double>> figures = {
           {"frames", static_cast<double>(c.frames)},
           {"wrong_size_frames", static_cast<double>(c.wrong_size)},
           {"wrong_format_frames", static_cast<double>(c.wrong_format)},
+          {"duplicate_or_out_of_order_frames", static_cast<double>(out_of_order)},
           {"unknown_markers", static_cast<double>(c.unknown_markers)},
           {"rejected_poses", static_cast<double>(c.rejected_poses)},
           {"rejected_markers", static_cast<double>(c.rejected_markers)},
