@@ -6,7 +6,7 @@
 
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 namespace arphys::sim {
 
@@ -16,7 +16,7 @@ SimulatorCore::SimulatorCore(config::SceneConfig scene, CoreOptions options)
 }
 
 void SimulatorCore::reset() {
-  world_ = dynamics::build_world(scene_, options_.threads);
+  world_ = arphys::scene::build_world(scene_, options_.threads);
   drivers_.clear();
   last_seen_s_.clear();
   spawn_counter_.clear();
@@ -194,7 +194,7 @@ std::string SimulatorCore::add_instance(const config::ObjectConfig& object, cons
     return "faster than " + std::to_string(options_.max_spawn_speed_m_s) + " m/s";
   }
   if (world_.find(id) >= 0) return "a body '" + id + "' exists";
-  dynamics::RigidBody body = dynamics::make_instance(object, id, X_WB, v_WB_m_s, w_WB_rad_s);
+  dynamics::RigidBody body = arphys::scene::make_instance(object, id, X_WB, v_WB_m_s, w_WB_rad_s);
   // A body spawned into another one cannot be resolved physically (both are pushed
   // apart at the depenetration speed, and a stack of them buries the solver): refused.
   // A resumed body was where it is in the world the killed simulator ran, touching its

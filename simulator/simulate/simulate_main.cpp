@@ -13,7 +13,7 @@
 #include "configs/loader/config_error.hpp"
 #include "configs/loader/scene_config.hpp"
 #include "simulator/dynamics/memory_policy.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 namespace {
 
@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
   if (dt_s == 0) dt_s = scene.time_step_s;
   dynamics::World world;
   try {
-    world = dynamics::build_world(scene, threads);
+    world = arphys::scene::build_world(scene, threads);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "simulate: %s: %s\n", scene_path.c_str(), e.what());
     return 2;

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "configs/loader/scene_config.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "tools/eval/model_study.hpp"
 
 namespace arphys::eval {
@@ -41,7 +41,7 @@ TEST(ModelStudy, UprightBunnyRestsOnItsBaseOnTheTable) {
   config::ShapeConfig mesh = bunny->collision;
   mesh.type = config::ShapeType::kMesh;
   mesh.mesh_path = kConfigs + "/models/stanford-bunny-5k.obj";
-  const auto shape = dynamics::shape_of(mesh);
+  const auto shape = arphys::scene::shape_of(mesh);
   ASSERT_EQ(shape.type(), collision::Shape::Type::kMesh);
   ASSERT_GT(shape.triangles()->mesh().num_triangles(), 4000);
   double lowest_m = INFINITY;

@@ -9,7 +9,7 @@
 
 #include "configs/loader/scene_config.hpp"
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "tools/dyn_bench/bunny_peer.hpp"
 
 namespace arphys::dyn_bench {
@@ -39,7 +39,7 @@ struct Row {
 };
 
 Row run_arphys(const config::SceneConfig& scene, double duration_s) {
-  dynamics::World world = dynamics::build_world(scene);
+  dynamics::World world = arphys::scene::build_world(scene);
   Row row;
   const long steps = std::lround(duration_s / scene.time_step_s);
   double wall = 0;
@@ -60,7 +60,7 @@ Row run_arphys(const config::SceneConfig& scene, double duration_s) {
 // The scene's bodies for a peer, and the mesh the bunny's pieces were made from.
 BunnyModel bunny_model(const config::SceneConfig& scene) {
   BunnyModel model;
-  model.bodies = dynamics::build_world(scene).bodies();
+  model.bodies = arphys::scene::build_world(scene).bodies();
   model.gravity_m_s2 = scene.gravity_m_s2;
   for (const config::ObjectConfig& o : scene.objects)
     if (o.collision.type == config::ShapeType::kConvexSet && !o.collision.mesh_path.empty())

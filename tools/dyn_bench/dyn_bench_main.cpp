@@ -26,7 +26,7 @@
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/memory_policy.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "tools/dyn_bench/bunnies_peers.hpp"
 #include "tools/dyn_bench/engine.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
@@ -420,7 +420,7 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
     const auto scene = arphys::config::load_scene(configs + "/scenes/" + name + ".yaml");
     std::vector<double> ms_per_step;
     for (int run = 0; run < runs; ++run) {
-      arphys::dynamics::World world = arphys::dynamics::build_world(scene);
+      arphys::dynamics::World world = arphys::scene::build_world(scene);
       for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
         if (world.bodies()[i].is_dynamic()) world.body(i).v_WC_m_s.x() += start_velocity_perturbation_m_s(i, run);
       const long steps = std::lround(duration / scene.time_step_s);

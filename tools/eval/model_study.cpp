@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 
 namespace arphys::eval {
@@ -52,7 +52,7 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     bunny->friction = 0.5;
     table->friction = 0.5;
   }
-  dynamics::World world = dynamics::build_world(scene);
+  dynamics::World world = arphys::scene::build_world(scene);
   // A virtual object without spawns starts as one body at its pose: placed here instead.
   if (world.find("bunny") >= 0) world.remove_body(world.find("bunny"));
   // Three bunnies far apart, dropped from 8 cm with different tilts and spins.
@@ -64,8 +64,8 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     X.linear() = q.toRotationMatrix();
     X.translation() = Eigen::Vector3d(-0.35 + 0.3 * i, 0.2, 0.16);
     dynamics::RigidBody body =
-        dynamics::make_instance(*bunny, "bunny#" + std::to_string(i), X, {0.05 * (i - 1), 0, 0}, {0, 0, 1.0 * i});
-    body.shape = dynamics::shape_of(collision);
+        arphys::scene::make_instance(*bunny, "bunny#" + std::to_string(i), X, {0.05 * (i - 1), 0, 0}, {0, 0, 1.0 * i});
+    body.shape = arphys::scene::shape_of(collision);
     world.add_body(std::move(body));
   }
   // The fourth, upright on its base (the first's orientation), its lowest vertex 1 mm
@@ -73,8 +73,8 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
   {
     geometry::Pose X = geometry::Pose::Identity();
     X.linear() = Eigen::Quaterniond(0.7071067811865476, 0.7071067811865476, 0, 0).toRotationMatrix();
-    dynamics::RigidBody body = dynamics::make_instance(*bunny, "bunny#upright", X, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-    body.shape = dynamics::shape_of(collision);
+    dynamics::RigidBody body = arphys::scene::make_instance(*bunny, "bunny#upright", X, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+    body.shape = arphys::scene::shape_of(collision);
     double lowest_m = std::numeric_limits<double>::infinity();
     for (const Eigen::Vector3d& v : body.shape.triangles()->mesh().vertices_m) lowest_m = std::min(lowest_m, (X.linear() * v).z());
     X.translation() = Eigen::Vector3d(-0.1, -0.25, 1e-3 - lowest_m);

@@ -6,7 +6,7 @@
 #include <random>
 #include <stdexcept>
 
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "simulator/process/tracking_driver.hpp"
 #include "tracker/pose/constant_velocity_filter.hpp"
 
@@ -46,7 +46,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
   }
   const config::ObjectConfig* bunny_object = scene.find_object("bunny");
   if (!bunny_object || !scene.find_object("box")) throw std::invalid_argument("push scenario: the scene needs 'box' and 'bunny'");
-  dynamics::World world = dynamics::build_world(scene);
+  dynamics::World world = arphys::scene::build_world(scene);
   // A virtual object without spawns starts as one body at its pose: placed below instead
   // (removed before any index is taken: removal shifts the ones after it).
   if (world.find("bunny") >= 0) world.remove_body(world.find("bunny"));
@@ -55,13 +55,13 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
   // The bunny upright (z-up), its lowest point 2 mm above the table, its back 5 cm ahead
   // of the box's front face.
   const geometry::Pose R_up = geometry::make_pose({0, 0, 0}, {0.7071067811865476, 0.7071067811865476, 0, 0});
-  dynamics::RigidBody probe = dynamics::make_instance(*bunny_object, "bunny", R_up, {0, 0, 0}, {0, 0, 0});
+  dynamics::RigidBody probe = arphys::scene::make_instance(*bunny_object, "bunny", R_up, {0, 0, 0}, {0, 0, 0});
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9);
   for (const auto& v : probe.shape.triangles()->mesh().vertices_m) lo = lo.cwiseMin(R_up * v);
   const Eigen::Vector3d start(-0.3 + 0.075 + 0.05 - lo.x(), 0.0, 0.002 - lo.z());
   geometry::Pose X_bunny = R_up;
   X_bunny.translation() = start;
-  world.add_body(dynamics::make_instance(*bunny_object, "bunny", X_bunny, {0, 0, 0}, {0, 0, 0}));
+  world.add_body(arphys::scene::make_instance(*bunny_object, "bunny", X_bunny, {0, 0, 0}, {0, 0, 0}));
   const int bunny = world.find("bunny");
 
   std::mt19937 rng(s.seed);

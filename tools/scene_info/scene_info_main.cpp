@@ -16,7 +16,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 
@@ -146,7 +146,7 @@ int main(int argc, char** argv) {
         std::printf("    render:    %s\n", describe_shape(object.render).c_str());
       }
       if (object.motion == config::Motion::kDynamic) {
-        const auto props = dynamics::mass_properties_of(object);
+        const auto props = arphys::scene::mass_properties_of(object);
         const Eigen::Vector3d principal =
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(props.inertia_about_com_kg_m2).eigenvalues();
         std::printf("    mass %.4f kg, volume %.4g m^3, centre of mass (%.4f, %.4f, %.4f) m, principal inertia "

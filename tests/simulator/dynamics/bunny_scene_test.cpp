@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "configs/loader/scene_config.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -34,7 +34,7 @@ double depth_inside_box(const RigidBody& mesh_body, const RigidBody& box, const 
 TEST(BunnyScene, TwentyBunniesAsShippedNeverFreezeNorLetTheBoxIn) {
   const config::SceneConfig scene =
       config::load_scene(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunnies20.yaml");
-  World world = build_world(scene);
+  World world = arphys::scene::build_world(scene);
   const int box = world.find("box");
   ASSERT_GE(box, 0);
   const Eigen::Vector3d box_half_extents_m = 0.5 * world.bodies()[box].shape.size_m();

@@ -12,7 +12,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -41,7 +41,7 @@ double deepest_overlap_m(const World& world) {
 // without it, pairs left unswept were caught 124 um deep at cuts; with them unswept up to
 // 4 mm, one caught 1.4 mm deep ended step 1393 522 um deep).
 TEST(PileAccuracy, EveryStepOfTheFrictionless1000BoxPileEndsWithin10Micrometres) {
-  World world = build_world(config::load_scene(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/drop1000.yaml"));
+  World world = arphys::scene::build_world(config::load_scene(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/drop1000.yaml"));
   const double dt_s = 1e-3;
   const double undone_in_a_step_m = 0.5 * world.options().max_depenetration_speed_m_s * dt_s;
   double deepest = 0, deepest_at_cuts = 0;

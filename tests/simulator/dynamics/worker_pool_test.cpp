@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "configs/loader/scene_config.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
 
 namespace arphys::dynamics {
@@ -43,8 +43,8 @@ TEST(WorkerPool, CallsEveryIndexOnceAndRethrows) {
 // same poses and velocities to the last bit whether the step's pairs run on 1 or 3 threads.
 TEST(WorkerPool, AWorldStepsToTheSameBitsOnAnyNumberOfThreads) {
   const config::SceneConfig scene = config::load_scene(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bunnies20.yaml");
-  World one = build_world(scene, 1);
-  World three = build_world(scene, 3);
+  World one = arphys::scene::build_world(scene, 1);
+  World three = arphys::scene::build_world(scene, 3);
   std::size_t most_contacts = 0;
   for (int step = 0; step < 80; ++step) {
     one.step(0.01);

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
@@ -532,7 +532,7 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
       object.spawn_at_start.resize(1);
       object.spawn_at_start[0].X_WB.translation().z() = 0.12;
     }
-  World world = build_world(scene);
+  World world = arphys::scene::build_world(scene);
   int bunny = -1;
   for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
     if (world.bodies()[i].is_dynamic()) bunny = i;
@@ -562,7 +562,7 @@ TEST(WorldRobustness, FrictionalPileIsNeverLaunched) {
   for (auto& object : scene.objects) {
     if (object.id == "bunny") object.friction = 0.5;
   }
-  World world = build_world(scene);
+  World world = arphys::scene::build_world(scene);
   int prevented = 0;
 #ifdef ARPHYS_UNDER_SANITIZERS
   const int steps = 40;  // the pile forms; memory and UB checks of the same paths (220 steps take > 5 min there)

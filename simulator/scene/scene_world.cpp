@@ -1,10 +1,14 @@
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 #include <map>
 #include <tuple>
 #include <stdexcept>
 
-namespace arphys::dynamics {
+namespace arphys::scene {
+
+using dynamics::BodyMotion;
+using dynamics::ContactSolverKind;
+
 namespace {
 
 constexpr double kWaterDensity_kg_m3 = 1000.0;
@@ -143,4 +147,4 @@ World build_world(const config::SceneConfig& scene, int threads) {
   return world;
 }
 
-}  // namespace arphys::dynamics
+}  // namespace arphys::scene

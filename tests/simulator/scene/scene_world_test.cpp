@@ -1,5 +1,5 @@
 // Bodies built from scene files: the bunny of application 2 on its table.
-#include "simulator/dynamics/scene_world.hpp"
+#include "simulator/scene/scene_world.hpp"
 
 #include <gtest/gtest.h>
 
@@ -25,7 +25,7 @@ double lowest_z(const RigidBody& body) {
 World table_and_box() {
   config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
   for (auto& o : scene.objects) o.spawn_at_start.clear();
-  World world = build_world(scene);
+  World world = arphys::scene::build_world(scene);
   world.remove_body(world.find("bunny"));
   return world;
 }
@@ -54,10 +54,10 @@ TEST(SceneWorld, UprightBunnyDroppedFromLowHeightsRestsOnTheTable) {
   const config::ObjectConfig* bunny = scene.find_object("bunny");
   ASSERT_NE(bunny, nullptr);
   for (double gap_m : {0.0005, 0.002, 0.005, 0.01, 0.02}) {
-    World world = build_world(scene);
+    World world = arphys::scene::build_world(scene);
     world.remove_body(world.find("bunny"));
     geometry::Pose X = geometry::make_pose({0, 0, 0}, {0.7071067811865476, 0.7071067811865476, 0, 0});
-    RigidBody body = make_instance(*bunny, "b", X, {0, 0, 0}, {0, 0, 0});
+    RigidBody body = arphys::scene::make_instance(*bunny, "b", X, {0, 0, 0}, {0, 0, 0});
     X.translation().z() = gap_m - lowest_z(body);
     body.X_WB = X;
     const int index = world.add_body(std::move(body));
@@ -114,13 +114,13 @@ TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
     for (const double w_rad_s : {-10.0, -5.0, 5.0, 10.0}) {
       World world;
       const geometry::Pose upright = geometry::make_pose({0, 0, 0}, {0.7071067811865476, 0.7071067811865476, 0, 0});
-      RigidBody still = make_instance(*bunny, "still", upright, {0, 0, 0}, {0, 0, 0});
+      RigidBody still = arphys::scene::make_instance(*bunny, "still", upright, {0, 0, 0}, {0, 0, 0});
       still.motion = BodyMotion::kStatic;
       world.add_body(still);
       // Lowered from 30 cm above until the surfaces touch.
       geometry::Pose away = upright;
       away.translation() += Eigen::Vector3d(0.01, 0.01, 0.3);
-      const RigidBody probe = make_instance(*bunny, "turning", away, {0, 0, 0}, {0, 0, 0});
+      const RigidBody probe = arphys::scene::make_instance(*bunny, "turning", away, {0, 0, 0}, {0, 0, 0});
       const geometry::ScrewMotion slide(away, upright), rest(upright, upright);
       const auto toi = collision::time_of_impact(still.shape, rest, probe.shape, slide);
       ASSERT_TRUE(toi.collides);
@@ -128,7 +128,7 @@ TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
       const collision::CollisionMesh& mesh = *still.shape.triangles();
       ASSERT_FALSE(collision::intersects(mesh, upright, mesh, touching));
       ASSERT_LT(collision::separation(mesh, upright, mesh, touching, 1e-6).distance_m, 1e-8);
-      const int turning = world.add_body(make_instance(*bunny, "turning", touching, {0, 0, 0}, w_rad_s * axis));
+      const int turning = world.add_body(arphys::scene::make_instance(*bunny, "turning", touching, {0, 0, 0}, w_rad_s * axis));
       for (int k = 0; k < kSteps; ++k) {
         world.step(0.02);
         const RigidBody& body = world.bodies()[turning];
@@ -152,13 +152,13 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
   options.gravity_m_s2.setZero();
   World world(options);
   const geometry::Pose upright = geometry::make_pose({0, 0, 0}, {0.7071067811865476, 0.7071067811865476, 0, 0});
-  RigidBody still = make_instance(*bunny, "still", upright, {0, 0, 0}, {0, 0, 0});
+  RigidBody still = arphys::scene::make_instance(*bunny, "still", upright, {0, 0, 0}, {0, 0, 0});
   still.motion = BodyMotion::kStatic;
   world.add_body(still);
   // Slid in along x until the surfaces touch, then 0.3 mm further.
   geometry::Pose away = upright;
   away.translation().x() = 0.2;
-  const RigidBody probe = make_instance(*bunny, "pushed", away, {0, 0, 0}, {0, 0, 0});
+  const RigidBody probe = arphys::scene::make_instance(*bunny, "pushed", away, {0, 0, 0}, {0, 0, 0});
   const geometry::ScrewMotion slide(away, upright), rest(upright, upright);
   const auto toi = collision::time_of_impact(still.shape, rest, probe.shape, slide);
   ASSERT_TRUE(toi.collides);
@@ -166,7 +166,7 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
   crossed.translation().x() -= 3e-4;
   const collision::CollisionMesh& mesh = *still.shape.triangles();
   ASSERT_TRUE(collision::intersects(mesh, upright, mesh, crossed));
-  const int pushed = world.add_body(make_instance(*bunny, "pushed", crossed, {0, 0, 0}, {0, 0, 0}));
+  const int pushed = world.add_body(arphys::scene::make_instance(*bunny, "pushed", crossed, {0, 0, 0}, {0, 0, 0}));
   int crossing_steps = 0;
   double fastest_m_s = 0;
   for (int k = 0; k < 10; ++k) {
@@ -217,11 +217,11 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
 // world's defaults (1 um each).
 TEST(SceneWorld, ContactGapAndOverlapToleranceComeFromTheScene) {
   config::SceneConfig scene = config::load_scene(kScenes + "drop100.yaml");
-  EXPECT_DOUBLE_EQ(world_options_of(scene).contact_gap_m, WorldOptions{}.contact_gap_m);
-  EXPECT_DOUBLE_EQ(world_options_of(scene).overlap_tolerance_m, WorldOptions{}.overlap_tolerance_m);
+  EXPECT_DOUBLE_EQ(arphys::scene::world_options_of(scene).contact_gap_m, WorldOptions{}.contact_gap_m);
+  EXPECT_DOUBLE_EQ(arphys::scene::world_options_of(scene).overlap_tolerance_m, WorldOptions{}.overlap_tolerance_m);
   scene.contact_gap_m = 1e-5;
   scene.overlap_tolerance_m = 2e-5;
-  const World world = build_world(scene);
+  const World world = arphys::scene::build_world(scene);
   EXPECT_DOUBLE_EQ(world.options().contact_gap_m, 1e-5);
   EXPECT_DOUBLE_EQ(world.options().overlap_tolerance_m, 2e-5);
 }

@@ -1,14 +1,19 @@
 #pragma once
 // Builds a World from a scene file: shapes (each mesh loaded once), mass properties
 // (exact for meshes, analytic for primitives), motions, initial states, scripted
-// trajectories and spawned instances.
+// trajectories and spawned instances. Kept out of the engine: the dynamics library does
+// not know the scene file's schema.
 #include <memory>
 #include <string>
 
 #include "configs/loader/scene_config.hpp"
 #include "simulator/dynamics/world.hpp"
 
-namespace arphys::dynamics {
+namespace arphys::scene {
+
+using dynamics::RigidBody;
+using dynamics::World;
+using dynamics::WorldOptions;
 
 // Mass properties of an object's collision shape: exact volume integration for a
 // mesh (its holes capped), analytic for a box or sphere; mass_kg if given, else
@@ -31,4 +36,4 @@ World build_world(const config::SceneConfig& scene, int threads = 1);
 RigidBody make_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,
                         const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_W_rad_s);
 
-}  // namespace arphys::dynamics
+}  // namespace arphys::scene
