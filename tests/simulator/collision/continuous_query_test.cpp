@@ -5,7 +5,6 @@
 #include <random>
 
 #include "simulator/collision/discrete_query.hpp"
-#include "tools/ccd_bench/fcl_reference.hpp"
 #include "tests/support/poses.hpp"
 #include "tests/support/toi_checks.hpp"
 
@@ -198,97 +197,6 @@ TEST(ContinuousQuery, ApartAtStartSkipsOnlyTheStartTest) {
   }
   EXPECT_GT(compared, 20);
   EXPECT_GT(hits, 5);
-}
-
-// Our answer against the dense-sampling truth: a true hit must be found, never late
-// (after the first sample found intersecting) and at most 1e-6 before the last free
-// sample; a hit the sampling stepped over must be a real touch. Returns 1 for a true hit.
-int check_against_truth(const ContinuousResult& ours, const ccd_reference::ReferenceToi& truth, const CollisionMesh& a,
-                        const ScrewMotion& ma, const CollisionMesh& b, const ScrewMotion& mb, int motion) {
-  if (truth.hit) {
-    EXPECT_TRUE(ours.collides) << "missed motion " << motion;
-    EXPECT_LE(ours.time_of_impact, truth.toi) << "late on motion " << motion;
-    EXPECT_LE(truth.toi_lo - ours.time_of_impact, 1e-6) << "early on motion " << motion;
-    return 1;
-  }
-  if (ours.collides) {
-    const double t = ours.time_of_impact;
-    EXPECT_LT(separation(a, ma.pose_at(t), b, mb.pose_at(t), 1).distance_m, 1e-6) << "motion " << motion;
-  }
-  return 0;
-}
-
-TEST(ContinuousQuery, TwoRotatingBodiesAgreeWithSampledTruth) {
-  const geometry::TriangleMesh mesh_a = geometry::make_box_mesh({0.4, 0.1, 0.2});
-  const geometry::TriangleMesh mesh_b = geometry::make_sphere_mesh(0.15, 1);
-  const CollisionMesh a(mesh_a), b(mesh_b);
-  const ccd_reference::FclMesh fa(mesh_a), fb(mesh_b);
-  std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-1, 1);
-  int hits = 0;
-  for (int i = 0; i < 60; ++i) {
-    // (Drawn in a fixed order: the order of a call's arguments is the compiler's.)
-    const Eigen::Vector3d axis_a0 = random_vector(rng);
-    const double angle_a0 = u(rng);
-    const Eigen::Vector3d axis_a1 = random_vector(rng);
-    const double angle_a1 = 3 * u(rng);
-    const Eigen::Vector3d p_b0{u(rng), u(rng), u(rng)}, axis_b0 = random_vector(rng);
-    const double angle_b0 = 3 * u(rng);
-    const Eigen::Vector3d p_b1{u(rng), u(rng), u(rng)}, axis_b1 = random_vector(rng);
-    const double angle_b1 = 3 * u(rng);
-    const ScrewMotion ma(at({0, 0, 0}, axis_a0, angle_a0), at({0, 0, 0}, axis_a1, angle_a1));
-    const ScrewMotion mb(at(p_b0, axis_b0, angle_b0), at(p_b1, axis_b1, angle_b1));
-    if (intersects(a, ma.start(), b, mb.start())) continue;
-    const auto ours = time_of_impact(a, ma, b, mb);
-    hits += check_against_truth(ours, ccd_reference::sampled_truth(fa, ma, fb, mb, 2000), a, ma, b, mb, i);
-  }
-  EXPECT_GE(hits, 3);
-}
-
-// The randomised oracle of the issue on the bunny: zero misses, zero late TOIs,
-// |error| <= 1e-6 against the dense-sampling truth built on FCL's discrete test.
-TEST(ContinuousQuery, BunnyAgainstBunnyMatchesDenseSamplingTruth) {
-  auto mesh = geometry::load_mesh(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-5k.obj");
-  const double diagonal = mesh.bounds().diagonal().norm();
-  const Eigen::Vector3d centre = mesh.bounds().center();
-  for (auto& v : mesh.vertices_m) v = (v - centre) / diagonal;
-  const CollisionMesh bunny(mesh);
-  const ccd_reference::FclMesh fcl_bunny(mesh);
-  std::mt19937 rng(2026);
-  std::uniform_real_distribution<double> u(-0.9, 0.9), angle(0, M_PI / 2);
-  int hits = 0, grazing = 0, tested = 0, fcl_compared = 0;
-  while (tested < 60) {
-    Pose X0 = Pose::Identity(), X1 = Pose::Identity();
-    // Rotations and axes from this test's generator (Eigen's Random draws on std::rand,
-    // which other tests in the binary draw on too: the cases would depend on test order).
-    std::normal_distribution<double> normal;
-    X0.linear() = Eigen::Quaterniond(normal(rng), normal(rng), normal(rng), normal(rng)).normalized().toRotationMatrix();
-    const Eigen::Vector3d axis = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
-    X1.linear() = Eigen::AngleAxisd(angle(rng), axis) * X0.linear();
-    X0.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    X1.translation() = Eigen::Vector3d(u(rng), u(rng), u(rng));
-    if (intersects(bunny, Pose::Identity(), bunny, X0) || intersects(bunny, Pose::Identity(), bunny, X1)) continue;
-    ++tested;
-    const ScrewMotion motion(X0, X1);
-    const auto ours = time_of_impact(bunny, kStill, bunny, motion);
-    const auto truth = ccd_reference::sampled_truth(fcl_bunny, kStill, fcl_bunny, motion, 1000);
-    hits += check_against_truth(ours, truth, bunny, kStill, bunny, motion, tested);
-    grazing += !truth.hit && ours.collides;
-    if (truth.hit) {
-      // Second opinion: FCL's conservative advancement on RSS (its only miss-free CCD
-      // here, late by up to ~1e-4 in the anchor runs).
-      if (fcl_compared < 8) {
-        ++fcl_compared;
-        const auto fcl = ccd_reference::fcl_conservative_advancement(fcl_bunny, kStill, fcl_bunny, motion,
-                                                                     ccd_reference::FclBoundingVolume::kRss);
-        EXPECT_TRUE(fcl.hit) << "motion " << tested;
-        EXPECT_NEAR(fcl.toi, ours.time_of_impact, 3e-4) << "motion " << tested;
-      }
-    }
-  }
-  EXPECT_GT(hits, 12);
-  EXPECT_EQ(fcl_compared, 8);
-  EXPECT_LE(grazing, 3);
 }
 
 }  // namespace
