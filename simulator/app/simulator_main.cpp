@@ -97,7 +97,7 @@ arphys::world_state_t world_state(const sim::SimulatorCore& core, int64_t step_s
     b.motion = static_cast<int8_t>(body.motion);
     b.X_WB = msg::to_message(body.X_WB);
     msg::to_array(body.origin_velocity(), b.v_WB_m_s);
-    msg::to_array(body.w_W_rad_s, b.w_WB_rad_s);
+    msg::to_array(body.w_WB_rad_s, b.w_WB_rad_s);
     ws.bodies.push_back(b);
   }
   ws.num_bodies = static_cast<int32_t>(ws.bodies.size());

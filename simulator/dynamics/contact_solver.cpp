@@ -43,8 +43,8 @@ Eigen::Matrix<double, 6, 1> inverse_mass_times(const BodyInertia& body, const Ei
 
 double apply(const JacobianRow& J, const ContactRow& row, const std::vector<BodyVelocity>& u) {
   double value = 0;
-  if (row.body_a >= 0) value += J.a.head<3>().dot(u[row.body_a].v_WC_m_s) + J.a.tail<3>().dot(u[row.body_a].w_W_rad_s);
-  if (row.body_b >= 0) value += J.b.head<3>().dot(u[row.body_b].v_WC_m_s) + J.b.tail<3>().dot(u[row.body_b].w_W_rad_s);
+  if (row.body_a >= 0) value += J.a.head<3>().dot(u[row.body_a].v_WBcm_m_s) + J.a.tail<3>().dot(u[row.body_a].w_WB_rad_s);
+  if (row.body_b >= 0) value += J.b.head<3>().dot(u[row.body_b].v_WBcm_m_s) + J.b.tail<3>().dot(u[row.body_b].w_WB_rad_s);
   return value;
 }
 
@@ -52,8 +52,8 @@ void add_impulse(const JacobianRow& J, const ContactRow& row, const std::vector<
                  std::vector<BodyVelocity>& u) {
   auto add = [&](int body, const Eigen::Matrix<double, 6, 1>& j) {
     const Eigen::Matrix<double, 6, 1> du = inverse_mass_times(inertia[body], impulse * j);
-    u[body].v_WC_m_s += du.head<3>();
-    u[body].w_W_rad_s += du.tail<3>();
+    u[body].v_WBcm_m_s += du.head<3>();
+    u[body].w_WB_rad_s += du.tail<3>();
   };
   if (row.body_a >= 0) add(row.body_a, J.a);
   if (row.body_b >= 0) add(row.body_b, J.b);
@@ -391,7 +391,7 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
     return body < 0 ? absent : static_cast<int>(std::lower_bound(bodies.begin(), bodies.end(), body) - bodies.begin());
   };
   std::vector<Vector6d> v(bodies.size() + 1, Vector6d::Zero());
-  for (int s = 0; s < absent; ++s) v[s] << u[bodies[s]].v_WC_m_s, u[bodies[s]].w_W_rad_s;
+  for (int s = 0; s < absent; ++s) v[s] << u[bodies[s]].v_WBcm_m_s, u[bodies[s]].w_WB_rad_s;
   // Each direction (a row's normal and, where it has friction, its two tangents) as a
   // sweep uses it: its slots, Jacobian and M^-1 J^T per side, formed once (a sweep's
   // update is then a scaled 6-vector), and its own coupling J M^-1 J^T. Contiguous, the
@@ -485,8 +485,8 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
     if (change_m_s <= tolerance_m_s) break;
   }
   for (int s = 0; s < absent; ++s) {
-    u[bodies[s]].v_WC_m_s = v[s].head<3>();
-    u[bodies[s]].w_W_rad_s = v[s].tail<3>();
+    u[bodies[s]].v_WBcm_m_s = v[s].head<3>();
+    u[bodies[s]].w_WB_rad_s = v[s].tail<3>();
   }
   return sweep;
 }
@@ -504,7 +504,7 @@ bool same_island(const SolvedIslands::Island& a, const SolvedIslands::Island& b)
   for (std::size_t k = 0; k < a.rows.size(); ++k)
     if (!same_row(a.rows[k], b.rows[k])) return false;
   for (std::size_t k = 0; k < a.before.size(); ++k)
-    if (a.before[k].v_WC_m_s != b.before[k].v_WC_m_s || a.before[k].w_W_rad_s != b.before[k].w_W_rad_s) return false;
+    if (a.before[k].v_WBcm_m_s != b.before[k].v_WBcm_m_s || a.before[k].w_WB_rad_s != b.before[k].w_WB_rad_s) return false;
   return true;
 }
 

@@ -15,8 +15,8 @@
 namespace arphys::dynamics {
 
 struct BodyVelocity {
-  Eigen::Vector3d v_WC_m_s = Eigen::Vector3d::Zero();  // centre of mass
-  Eigen::Vector3d w_W_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WBcm_m_s = Eigen::Vector3d::Zero();  // centre of mass
+  Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
 };
 
 struct BodyInertia {

@@ -59,7 +59,7 @@ Twist KinematicTrajectory::twist_at(double t_s) const {
   const geometry::ScrewMotion screw(a.X_WB, b.X_WB);
   const geometry::Pose X = pose_at(t_s);
   Twist twist;
-  twist.w_W_rad_s = screw.angular_velocity() / duration;
+  twist.w_WB_rad_s = screw.angular_velocity() / duration;
   twist.v_WBo_m_s = screw.velocity_of_point(X.translation()) / duration;
   return twist;
 }

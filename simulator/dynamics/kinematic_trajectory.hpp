@@ -17,10 +17,10 @@ struct TimedPose {
 // Velocity of a rigid body: of its frame origin and its angular velocity, world frame.
 struct Twist {
   Eigen::Vector3d v_WBo_m_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_W_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
   // Velocity of the body point at p_W, when the origin is at p_WBo.
   Eigen::Vector3d velocity_of_point(const Eigen::Vector3d& p_W, const Eigen::Vector3d& p_WBo) const {
-    return v_WBo_m_s + w_W_rad_s.cross(p_W - p_WBo);
+    return v_WBo_m_s + w_WB_rad_s.cross(p_W - p_WBo);
   }
 };
 

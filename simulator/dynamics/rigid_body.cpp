@@ -11,7 +11,7 @@ Eigen::Matrix3d RigidBody::inverse_inertia_W() const {
 
 double RigidBody::kinetic_energy_J() const {
   if (!is_dynamic()) return 0;
-  return 0.5 * mass.mass_kg * v_WC_m_s.squaredNorm() + 0.5 * w_W_rad_s.dot(inertia_W() * w_W_rad_s);
+  return 0.5 * mass.mass_kg * v_WBcm_m_s.squaredNorm() + 0.5 * w_WB_rad_s.dot(inertia_W() * w_WB_rad_s);
 }
 
 geometry::Pose moved_about_com(const geometry::Pose& X_WB, const Eigen::Vector3d& com_B,

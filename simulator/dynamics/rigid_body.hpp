@@ -29,19 +29,19 @@ struct RigidBody {
   // State. X_WB: body frame in the world; v_WC: velocity of the centre of mass;
   // w_W: angular velocity; all world frame, SI units.
   geometry::Pose X_WB = geometry::Pose::Identity();
-  Eigen::Vector3d v_WC_m_s = Eigen::Vector3d::Zero();
-  Eigen::Vector3d w_W_rad_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_WBcm_m_s = Eigen::Vector3d::Zero();
+  Eigen::Vector3d w_WB_rad_s = Eigen::Vector3d::Zero();
 
   bool is_dynamic() const { return motion == BodyMotion::kDynamic; }
   Eigen::Vector3d com_W() const { return X_WB * mass.center_of_mass_m; }
-  Eigen::Vector3d velocity_of_point(const Eigen::Vector3d& p_W) const { return v_WC_m_s + w_W_rad_s.cross(p_W - com_W()); }
+  Eigen::Vector3d velocity_of_point(const Eigen::Vector3d& p_W) const { return v_WBcm_m_s + w_WB_rad_s.cross(p_W - com_W()); }
   // Velocity of the body frame's origin (what the CSV reports).
   Eigen::Vector3d origin_velocity() const { return velocity_of_point(X_WB.translation()); }
   // Sets the state from the origin's velocity and the angular velocity (scene files,
   // spawn commands and world states give the origin's; the state keeps the centre's).
   void set_origin_velocity(const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_rad_s) {
-    w_W_rad_s = w_rad_s;
-    v_WC_m_s = v_WO_m_s + w_rad_s.cross(com_W() - X_WB.translation());
+    w_WB_rad_s = w_rad_s;
+    v_WBcm_m_s = v_WO_m_s + w_rad_s.cross(com_W() - X_WB.translation());
   }
   Eigen::Matrix3d inertia_W() const {
     const Eigen::Matrix3d R = X_WB.linear();

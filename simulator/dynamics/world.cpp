@@ -34,7 +34,7 @@ constexpr int kMaxProjectionsPerMotion = 4;
 
 // A body's pose after moving its centre of mass with v and turning with w for h.
 geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h) {
-  return moved_about_com(body.X_WB, body.mass.center_of_mass_m, u.v_WC_m_s * h, u.w_W_rad_s, u.w_W_rad_s.norm() * h);
+  return moved_about_com(body.X_WB, body.mass.center_of_mass_m, u.v_WBcm_m_s * h, u.w_WB_rad_s, u.w_WB_rad_s.norm() * h);
 }
 
 // The body pairs of the contacts, sorted, once each.
@@ -116,7 +116,7 @@ int World::add_body(RigidBody body) {
     const Eigen::Matrix3d& I = body.mass.inertia_about_com_kg_m2;
     if (!I.allFinite() || !(I.determinant() > 0))
       throw std::invalid_argument("World::add_body: body '" + body.id + "' has a singular inertia");
-    if (!body.v_WC_m_s.allFinite() || !body.w_W_rad_s.allFinite())
+    if (!body.v_WBcm_m_s.allFinite() || !body.w_WB_rad_s.allFinite())
       throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite velocity");
   }
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
@@ -194,12 +194,12 @@ void World::set_kinematic_state(const std::vector<int>& participants, double t_s
       // The constant twist that takes it where the trajectory says it is after h (a
       // step can straddle two tracked poses: the instantaneous twist would be wrong).
       const geometry::ScrewMotion screw(body.X_WB, body.trajectory.pose_at(t_s + h_s));
-      body.w_W_rad_s = screw.angular_velocity() / h_s;
-      body.v_WC_m_s = screw.velocity_of_point(body.com_W()) / h_s;
+      body.w_WB_rad_s = screw.angular_velocity() / h_s;
+      body.v_WBcm_m_s = screw.velocity_of_point(body.com_W()) / h_s;
     } else {
       const Twist twist = body.trajectory.twist_at(t_s);
-      body.w_W_rad_s = twist.w_W_rad_s;
-      body.v_WC_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
+      body.w_WB_rad_s = twist.w_WB_rad_s;
+      body.v_WBcm_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
     }
   }
 }
@@ -319,7 +319,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
           const auto tracked_moving = [&] {
             return std::any_of(participants.begin(), participants.end(), [&](int i) {
               const RigidBody& body = bodies_[i];
-              return body.motion == BodyMotion::kKinematic && (body.v_WC_m_s.squaredNorm() > 0 || body.w_W_rad_s.squaredNorm() > 0);
+              return body.motion == BodyMotion::kKinematic && (body.v_WBcm_m_s.squaredNorm() > 0 || body.w_WB_rad_s.squaredNorm() > 0);
             });
           };
           if (!would_wait || !tracked_moving()) tau = std::min(tau, shallow);
@@ -355,7 +355,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
             const RigidBody& b = bodies_[body];
             if (!b.is_dynamic()) return b.velocity_of_point(p_W);
             const int slot = slot_of(participants, body);
-            return u[slot].v_WC_m_s + u[slot].w_W_rad_s.cross(p_W - b.com_W());
+            return u[slot].v_WBcm_m_s + u[slot].w_WB_rad_s.cross(p_W - b.com_W());
           };
           const Eigen::Vector3d p_A = bodies_[pair.first].X_WB * hit.point_A_B, p_B = bodies_[pair.second].X_WB * hit.point_B_B;
           const Eigen::Vector3d n = bodies_[pair.first].X_WB.linear() * hit.normal_A_B;
@@ -439,18 +439,18 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       RigidBody& body = bodies_[participants[s]];
       if (!body.is_dynamic()) continue;
       const geometry::Pose X = tau >= 1.0 ? next[s] : geometry::ScrewMotion(body.X_WB, next[s]).pose_at(tau);
-      if (X.matrix().allFinite() && u[s].v_WC_m_s.allFinite() && u[s].w_W_rad_s.allFinite()) {
+      if (X.matrix().allFinite() && u[s].v_WBcm_m_s.allFinite() && u[s].w_WB_rad_s.allFinite()) {
         outcome.swept[s].extend(swept_box(participants[s], X));
         body.X_WB = X;
-        body.v_WC_m_s = u[s].v_WC_m_s;
-        body.w_W_rad_s = u[s].w_W_rad_s;
+        body.v_WBcm_m_s = u[s].v_WBcm_m_s;
+        body.w_WB_rad_s = u[s].w_WB_rad_s;
       } else {
         // Last line of defence: a numerical failure anywhere in the step (solve, CCD
         // cut, integration) leaves the body where it was, at rest. Never NaN.
         outcome.swept[s].extend(body.X_WB.translation());
-        body.v_WC_m_s.setZero();
-        body.w_W_rad_s.setZero();
-        ++report.launches_prevented;
+        body.v_WBcm_m_s.setZero();
+        body.w_WB_rad_s.setZero();
+        ++report.non_finite_held;
       }
     }
     elapsed += h;
@@ -463,7 +463,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
 
 double World::point_speed_m_s(int i) const {
   const RigidBody& body = bodies_[i];
-  return body.v_WC_m_s.norm() + body.w_W_rad_s.norm() * radius_m_[i];
+  return body.v_WBcm_m_s.norm() + body.w_WB_rad_s.norm() * radius_m_[i];
 }
 
 std::vector<int> World::hold_sleepers(double dt_s) {
@@ -538,8 +538,8 @@ void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport
   for (int i = 0; i < n; ++i) {
     if (!awake(i) || least_quiet_s[islands.find(i)] < options_.sleep_after_s) continue;
     falling_asleep[i] = 1;
-    bodies_[i].v_WC_m_s.setZero();
-    bodies_[i].w_W_rad_s.setZero();
+    bodies_[i].v_WBcm_m_s.setZero();
+    bodies_[i].w_WB_rad_s.setZero();
     touching_[i].clear();
   }
   for (const Contact& c : contacts_) {
@@ -622,7 +622,7 @@ StepReport World::step(double dt_s) {
     Eigen::Vector3d v, w;
   };
   std::vector<State> start(n);
-  for (int i : dynamic) start[i] = {bodies_[i].X_WB, bodies_[i].v_WC_m_s, bodies_[i].w_W_rad_s};
+  for (int i : dynamic) start[i] = {bodies_[i].X_WB, bodies_[i].v_WBcm_m_s, bodies_[i].w_WB_rad_s};
   std::vector<Eigen::AlignedBox3d> moved(n);        // each dynamic body's swept box over the step
   std::vector<char> stepped(n, 0);                  // by group root: stepped on its own
   std::vector<std::vector<Contact>> contacts_of(n);  // by group root: its last solve, when stepped
@@ -650,15 +650,15 @@ StepReport World::step(double dt_s) {
         // Stepped before, merged since: start again from the step's start.
         for (int i : bodies) {
           bodies_[i].X_WB = start[i].X_WB;
-          bodies_[i].v_WC_m_s = start[i].v;
-          bodies_[i].w_W_rad_s = start[i].w;
+          bodies_[i].v_WBcm_m_s = start[i].v;
+          bodies_[i].w_WB_rad_s = start[i].w;
         }
       } else if (!eventful.count(g)) {
         for (int i : bodies) {
           moved[i] = swept0[i];
           bodies_[i].X_WB = next0[i];
-          bodies_[i].v_WC_m_s = u0[i].v_WC_m_s;
-          bodies_[i].w_W_rad_s = u0[i].w_W_rad_s;
+          bodies_[i].v_WBcm_m_s = u0[i].v_WBcm_m_s;
+          bodies_[i].w_WB_rad_s = u0[i].w_WB_rad_s;
         }
         continue;
       }

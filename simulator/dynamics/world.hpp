@@ -149,7 +149,8 @@ struct StepReport {
   // the overlap tolerance (and its allowed creep).
   double max_penetration_m = 0;
   int solver_iterations = 0;
-  int launches_prevented = 0;   // bodies the launch guard held back (a solver failure, reported)
+  int launches_prevented = 0;   // bodies the launch guard slowed (a solve that would launch them)
+  int non_finite_held = 0;      // bodies a numerical failure would have made non-finite, held at rest
   int ccd_queries = 0;          // pair motions swept by the CCD (resting pairs are checked at the end instead)
   // Mesh pairs within reach tested for crossing at poses they were gathered at (those the
   // last step's end check or CCD proved apart there are not tested again).

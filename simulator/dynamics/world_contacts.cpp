@@ -25,7 +25,7 @@ using world_internal::slot_of;
 namespace {
 
 // The angular velocity after h_s of torque-free motion.
-Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3d& w_W_rad_s, double h_s) {
+Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3d& w_WB_rad_s, double h_s) {
   // Implicit midpoint on I (w' - w) + h m x I m = 0, m = (w + w') / 2, by Newton from
   // w' = w: with the inertia held over the step it keeps the kinetic energy and the
   // angular momentum's size (both quadratic invariants). The explicit step
@@ -38,14 +38,14 @@ Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3
     S << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
     return S;
   };
-  Eigen::Vector3d w = w_W_rad_s;
+  Eigen::Vector3d w = w_WB_rad_s;
   for (int iteration = 0; iteration < 6; ++iteration) {
-    const Eigen::Vector3d m = 0.5 * (w_W_rad_s + w);
+    const Eigen::Vector3d m = 0.5 * (w_WB_rad_s + w);
     const Eigen::Vector3d Im = I_W * m;
-    const Eigen::Vector3d g = I_W * (w - w_W_rad_s) + h_s * m.cross(Im);
+    const Eigen::Vector3d g = I_W * (w - w_WB_rad_s) + h_s * m.cross(Im);
     const Eigen::Matrix3d J = I_W + 0.5 * h_s * (skew(m) * I_W - skew(Im));
     const Eigen::Vector3d step = J.partialPivLu().solve(g);
-    if (!step.allFinite()) return w_W_rad_s;
+    if (!step.allFinite()) return w_WB_rad_s;
     w -= step;
     if (step.norm() <= 1e-14 * (1 + w.norm())) break;
   }
@@ -242,8 +242,8 @@ World::SolveSetup World::prepare_solve(double h, double force_h, const std::vect
     setup.inertia.push_back(in);
     // Unconstrained: gravity, and the gyroscopic term I dw/dt = -w x I w, implicitly.
     BodyVelocity v;
-    v.v_WC_m_s = body.v_WC_m_s + force_h * options_.gravity_m_s2;
-    v.w_W_rad_s = gyroscopic_step(body.inertia_W(), body.w_W_rad_s, force_h);
+    v.v_WBcm_m_s = body.v_WBcm_m_s + force_h * options_.gravity_m_s2;
+    v.w_WB_rad_s = gyroscopic_step(body.inertia_W(), body.w_WB_rad_s, force_h);
     setup.u_unconstrained.push_back(v);
   }
   setup.resting_rows.reserve(resting.size());
@@ -323,11 +323,11 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
   }
   std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
   for (std::size_t k = 0; k < u.size(); ++k) radius[k] = radius_m_[participants[slot_of_unknown[k]]];
-  const auto point_speed = [&](const BodyVelocity& v, std::size_t k) { return v.v_WC_m_s.norm() + v.w_W_rad_s.norm() * radius[k]; };
+  const auto point_speed = [&](const BodyVelocity& v, std::size_t k) { return v.v_WBcm_m_s.norm() + v.w_WB_rad_s.norm() * radius[k]; };
   const auto energy_speed = [&](const BodyVelocity& v, std::size_t k) {
     const RigidBody& body = bodies_[setup.body_of_unknown[k]];
-    const double turning = v.w_W_rad_s.dot(body.inertia_W() * v.w_W_rad_s) / body.mass.mass_kg;
-    return std::sqrt(v.v_WC_m_s.squaredNorm() + std::max(0.0, turning));
+    const double turning = v.w_WB_rad_s.dot(body.inertia_W() * v.w_WB_rad_s) / body.mass.mass_kg;
+    return std::sqrt(v.v_WBcm_m_s.squaredNorm() + std::max(0.0, turning));
   };
   for (std::size_t k = 0; k < u.size(); ++k) {
     const double speed = point_speed(u_unconstrained[k], k);
@@ -350,8 +350,8 @@ std::vector<BodyVelocity> World::solve(const SolveSetup& setup, const std::vecto
     if (std::isfinite(energy) && std::isfinite(speed)) {
       const double scale = std::min(energy > bound ? bound / energy : 1.0,
                                     speed > options_.max_body_speed_m_s ? options_.max_body_speed_m_s / speed : 1.0);
-      u[k].v_WC_m_s *= scale;
-      u[k].w_W_rad_s *= scale;
+      u[k].v_WBcm_m_s *= scale;
+      u[k].w_WB_rad_s *= scale;
     } else {
       u[k] = u_unconstrained[k];
     }

@@ -470,7 +470,7 @@ std::vector<char> World::keep_motions(const std::vector<int>& participants, cons
     const RigidBody& body = bodies_[participants[s]];
     if (body.motion == BodyMotion::kStatic) {
       kept[s] = 1;
-    } else if (body.is_dynamic() && u[s].v_WC_m_s == u_before[s].v_WC_m_s && u[s].w_W_rad_s == u_before[s].w_W_rad_s) {
+    } else if (body.is_dynamic() && u[s].v_WBcm_m_s == u_before[s].v_WBcm_m_s && u[s].w_WB_rad_s == u_before[s].w_WB_rad_s) {
       // Exactly: a pair a thousandth of the overlap tolerance too deep is corrected by a
       // velocity change of that size (keeping motions that changed by less than 1 nm, such
       // pairs stayed deep round after round: the 100-bunny spawn took 1.9 s per step).

@@ -100,7 +100,7 @@ WorldOptions world_options_of(const config::SceneConfig& scene) {
 }
 
 RigidBody make_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,
-                        const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_W_rad_s) {
+                        const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_WB_rad_s) {
   RigidBody body;
   body.id = id;
   body.model = object.id;
@@ -111,7 +111,7 @@ RigidBody make_instance(const config::ObjectConfig& object, const std::string& i
   body.restitution = object.restitution;
   body.friction = object.friction;
   body.X_WB = X_WB;
-  body.set_origin_velocity(v_WO_m_s, w_W_rad_s);
+  body.set_origin_velocity(v_WO_m_s, w_WB_rad_s);
   return body;
 }
 

@@ -34,6 +34,6 @@ World build_world(const config::SceneConfig& scene, int threads = 1);
 
 // A body for one instance of a dynamic object at a pose and velocity (origin velocity).
 RigidBody make_instance(const config::ObjectConfig& object, const std::string& id, const geometry::Pose& X_WB,
-                        const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_W_rad_s);
+                        const Eigen::Vector3d& v_WO_m_s, const Eigen::Vector3d& w_WB_rad_s);
 
 }  // namespace arphys::scene

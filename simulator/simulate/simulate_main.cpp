@@ -25,7 +25,7 @@ void write_rows(std::ostream& out, const dynamics::World& world) {
     const Eigen::Vector3d p = body.X_WB.translation();
     const Eigen::Quaterniond q(body.X_WB.linear());
     const Eigen::Vector3d v = body.origin_velocity();
-    const Eigen::Vector3d& w = body.w_W_rad_s;
+    const Eigen::Vector3d& w = body.w_WB_rad_s;
     std::snprintf(row, sizeof row, "%.6f,%s,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n",
                   world.time_s(), body.id.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(),
                   w.x(), w.y(), w.z());
@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
   write_rows(out, world);
 
   const long steps = std::lround(duration_s / dt_s);
-  long resolves = 0, lifts = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, iterative = 0;
+  long resolves = 0, lifts = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, held = 0, iterative = 0;
   double deepest = 0, worst_kkt = 0;
   const auto start = std::chrono::steady_clock::now();
   auto last_progress = start;
@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
     capped += report.events_capped;
     infeasible += report.infeasible;
     launches += report.launches_prevented;
+    held += report.non_finite_held;
     iterative += report.iterative_islands;
     deepest = std::max(deepest, report.max_penetration_m);
     worst_kkt = std::max(worst_kkt, report.kkt_residual_m_s);
@@ -108,10 +109,10 @@ int main(int argc, char** argv) {
   std::fprintf(stderr,
                "\r[simulate] %s: %ld steps of %.4g s, %zu bodies, %d thread%s; %.3f ms per step (real-time factor %.2f); %ld re-solves "
                "(CCD meetings and end checks), %ld lifts of resting points left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, "
-               "%ld launches prevented, %ld island solves too large for the exact solver; deepest overlap %.3g m; "
+               "%ld launches prevented, %ld bodies held after a numerical failure, %ld island solves too large for the exact solver; deepest overlap %.3g m; "
                "worst KKT residual %.3g m/s\n",
                scene.name.c_str(), steps, dt_s, world.bodies().size(), threads, threads == 1 ? "" : "s", 1e3 * wall_s / std::max(1L, steps),
-               duration_s / std::max(wall_s, 1e-9), resolves, lifts, cuts, capped, infeasible, launches, iterative, deepest,
+               duration_s / std::max(wall_s, 1e-9), resolves, lifts, cuts, capped, infeasible, launches, held, iterative, deepest,
                worst_kkt);
   return 0;
 }

@@ -85,7 +85,7 @@ class MujocoBunnies : public BunnyPeer {
       // A free joint's velocity: the body origin's linear velocity (world) and the angular one (body frame).
       const int dof = model_->body_dofadr[body_of_[i]];
       const Eigen::Vector3d v = b.origin_velocity();
-      const Eigen::Vector3d w_B = b.X_WB.linear().transpose() * b.w_W_rad_s;
+      const Eigen::Vector3d w_B = b.X_WB.linear().transpose() * b.w_WB_rad_s;
       for (int k = 0; k < 3; ++k) {
         data_->qvel[dof + k] = v[k];
         data_->qvel[dof + 3 + k] = w_B[k];

@@ -108,9 +108,9 @@ class OdeBunnies : public BunnyPeer {
       dBodySetPosition(e.body, X_WP.translation().x(), X_WP.translation().y(), X_WP.translation().z());
       dBodySetQuaternion(e.body, dq);
       if (b.is_dynamic()) {
-        const Eigen::Vector3d v = b.v_WC_m_s;
+        const Eigen::Vector3d v = b.v_WBcm_m_s;
         dBodySetLinearVel(e.body, v.x(), v.y(), v.z());
-        dBodySetAngularVel(e.body, b.w_W_rad_s.x(), b.w_W_rad_s.y(), b.w_W_rad_s.z());
+        dBodySetAngularVel(e.body, b.w_WB_rad_s.x(), b.w_WB_rad_s.y(), b.w_WB_rad_s.z());
       }
     } else {
       dGeomSetPosition(e.geom, X_WP.translation().x(), X_WP.translation().y(), X_WP.translation().z());

@@ -41,7 +41,7 @@ class ArphysEngine : public Engine {
         body.mass = b.shape == BenchBody::Shape::kSphere
                         ? geometry::with_mass(geometry::sphere_mass_properties(b.radius_m, 1000), b.mass_kg)
                         : geometry::with_mass(geometry::box_mass_properties(2 * b.half_extents_m, 1000), b.mass_kg);
-        body.v_WC_m_s = b.v_m_s;
+        body.v_WBcm_m_s = b.v_m_s;
       }
       world_->add_body(body);
     }
@@ -56,7 +56,7 @@ class ArphysEngine : public Engine {
   }
   void step() override { world_->step(dt_); }
   Eigen::Isometry3d pose(int i) const override { return world_->bodies()[i].X_WB; }
-  Eigen::Vector3d velocity(int i) const override { return world_->bodies()[i].v_WC_m_s; }
+  Eigen::Vector3d velocity(int i) const override { return world_->bodies()[i].v_WBcm_m_s; }
 
  private:
   std::string name_;

@@ -123,7 +123,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
     }
     const dynamics::StepReport report = world.step(dt);
     const dynamics::RigidBody& b = world.bodies()[bunny];
-    if (!b.X_WB.matrix().allFinite() || !b.v_WC_m_s.allFinite()) {
+    if (!b.X_WB.matrix().allFinite() || !b.v_WBcm_m_s.allFinite()) {
       out.non_finite = true;
       break;
     }
@@ -132,7 +132,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
     if (t1 >= kPushStart_s - 0.05 && std::isnan(rest_z)) rest_z = b.com_W().z();
     if (!std::isnan(rest_z)) {
       out.max_rise_mm = std::max(out.max_rise_mm, 1e3 * (b.com_W().z() - rest_z));
-      out.peak_speed_ratio = std::max(out.peak_speed_ratio, b.v_WC_m_s.norm() / s.push_speed_m_s);
+      out.peak_speed_ratio = std::max(out.peak_speed_ratio, b.v_WBcm_m_s.norm() / s.push_speed_m_s);
     }
   }
   out.ms_per_step = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() / steps;

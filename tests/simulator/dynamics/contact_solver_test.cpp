@@ -31,9 +31,9 @@ ContactRow on_ground(int body, const Eigen::Vector3d& point_W) {
 TEST(SolvedIslands, AnAddedRowResolvesOnlyItsIslandAndAnswersAsAFreshSolve) {
   const std::vector<BodyInertia> inertia{unit_box({0, 0, 0.1}), unit_box({1, 0, 0.1})};
   std::vector<BodyVelocity> falling(2);
-  falling[0].v_WC_m_s = {0.3, 0, -1};
-  falling[1].v_WC_m_s = {-0.2, 0.1, -2};
-  falling[1].w_W_rad_s = {0, 1, 0};
+  falling[0].v_WBcm_m_s = {0.3, 0, -1};
+  falling[1].v_WBcm_m_s = {-0.2, 0.1, -2};
+  falling[1].w_WB_rad_s = {0, 1, 0};
   // 16 points under each box (islands that small are not remembered: re-solving them is as cheap).
   std::vector<ContactRow> rows;
   for (int body = 0; body < 2; ++body)
@@ -57,16 +57,16 @@ TEST(SolvedIslands, AnAddedRowResolvesOnlyItsIslandAndAnswersAsAFreshSolve) {
   const ContactSolveResult b = solve_contacts(inertia, without, rows, {});
   EXPECT_EQ(memo.reused, 1);
   for (int k = 0; k < 2; ++k) {
-    EXPECT_EQ(with_memo[k].v_WC_m_s, without[k].v_WC_m_s) << "body " << k;
-    EXPECT_EQ(with_memo[k].w_W_rad_s, without[k].w_W_rad_s) << "body " << k;
+    EXPECT_EQ(with_memo[k].v_WBcm_m_s, without[k].v_WBcm_m_s) << "body " << k;
+    EXPECT_EQ(with_memo[k].w_WB_rad_s, without[k].w_WB_rad_s) << "body " << k;
   }
   EXPECT_EQ(a.normal_impulses_N_s, b.normal_impulses_N_s);
-  EXPECT_GE(with_memo[1].v_WC_m_s.x(), -1e-12);  // the wall holds
-  EXPECT_NEAR(with_memo[0].v_WC_m_s.x(), 0.3, 1e-12);  // frictionless ground: body 0 slides on
+  EXPECT_GE(with_memo[1].v_WBcm_m_s.x(), -1e-12);  // the wall holds
+  EXPECT_NEAR(with_memo[0].v_WBcm_m_s.x(), 0.3, 1e-12);  // frictionless ground: body 0 slides on
 
   // Body 0 starting a hair faster is another island: solved, not taken from the memo.
   std::vector<BodyVelocity> faster = falling;
-  faster[0].v_WC_m_s.z() -= 1e-12;
+  faster[0].v_WBcm_m_s.z() -= 1e-12;
   solve_contacts(inertia, faster, rows, {}, &memo, &keys);
   EXPECT_EQ(memo.reused, 2);  // body 1's island (with the wall) again, not body 0's
 
@@ -87,9 +87,9 @@ TEST(ContactSolver, LargeIslandIsSolvedExactly) {
   for (int k = 0; k < boxes; ++k) {
     const double x = 0.2 * k;
     inertia.push_back(unit_box({x, 0, 0.1}));
-    u[k].v_WC_m_s = {k % 2 == 0 ? 0.5 : -0.5, 0, -0.01 * (k % 7)};
-    u[k].w_W_rad_s = {0.1 * (k % 3), -0.05 * (k % 5), 0};
-    momentum_x += u[k].v_WC_m_s.x();
+    u[k].v_WBcm_m_s = {k % 2 == 0 ? 0.5 : -0.5, 0, -0.01 * (k % 7)};
+    u[k].w_WB_rad_s = {0.1 * (k % 3), -0.05 * (k % 5), 0};
+    momentum_x += u[k].v_WBcm_m_s.x();
     for (const double dy : {-0.1, 0.1})
       for (const double dx : {-0.1, 0.1}) rows.push_back(on_ground(k, {x + dx, dy, 0}));
     if (k + 1 < boxes)
@@ -109,11 +109,11 @@ TEST(ContactSolver, LargeIslandIsSolvedExactly) {
   EXPECT_FALSE(result.infeasible);
   EXPECT_LE(result.kkt_residual_m_s, 1e-9);
   double after_x = 0;
-  for (int k = 0; k < boxes; ++k) after_x += u[k].v_WC_m_s.x();
+  for (int k = 0; k < boxes; ++k) after_x += u[k].v_WBcm_m_s.x();
   EXPECT_NEAR(after_x, momentum_x, 1e-9);
   for (const ContactRow& row : rows) {
     const auto point_velocity = [&](int body) -> Eigen::Vector3d {
-      return u[body].v_WC_m_s + u[body].w_W_rad_s.cross(row.point_W - inertia[body].com_W);
+      return u[body].v_WBcm_m_s + u[body].w_WB_rad_s.cross(row.point_W - inertia[body].com_W);
     };
     Eigen::Vector3d relative = point_velocity(row.body_b);
     if (row.body_a >= 0) relative -= point_velocity(row.body_a);
@@ -132,8 +132,8 @@ TEST(ContactSolver, ASqueezedBodyStaysOnItsSupportAndTheRestOfItsIslandIsSolved)
   const double g_h = 9.81e-3;  // gravity over a 1 ms step
   const std::vector<BodyInertia> inertia{unit_box({0, 0, 0.1}), unit_box({0.2, 0, 0.1})};
   std::vector<BodyVelocity> u(2);
-  u[0].v_WC_m_s = {0, 0, -g_h};
-  u[1].v_WC_m_s = {0, 0, -g_h};
+  u[0].v_WBcm_m_s = {0, 0, -g_h};
+  u[1].v_WBcm_m_s = {0, 0, -g_h};
   std::vector<ContactRow> rows;
   for (int body = 0; body < 2; ++body)
     for (const double dx : {-0.1, 0.1})
@@ -159,13 +159,13 @@ TEST(ContactSolver, ASqueezedBodyStaysOnItsSupportAndTheRestOfItsIslandIsSolved)
   const ContactSolveResult result = solve_contacts(inertia, u, rows, {});
   EXPECT_TRUE(result.infeasible);
   for (int body = 0; body < 2; ++body) {
-    ASSERT_TRUE(u[body].v_WC_m_s.allFinite() && u[body].w_W_rad_s.allFinite());
-    EXPECT_LT(u[body].v_WC_m_s.norm(), 1.0) << "body " << body << " launched";
+    ASSERT_TRUE(u[body].v_WBcm_m_s.allFinite() && u[body].w_WB_rad_s.allFinite());
+    EXPECT_LT(u[body].v_WBcm_m_s.norm(), 1.0) << "body " << body << " launched";
   }
-  EXPECT_NEAR(u[0].v_WC_m_s.z(), 0.0, 1e-9);   // neither into the ground nor up
-  EXPECT_NEAR(u[0].w_W_rad_s.norm(), 0.0, 1e-9);
-  EXPECT_GE(u[1].v_WC_m_s.x() - u[0].v_WC_m_s.x(), 0.1 - 1e-9);  // box 1's own demand holds
-  EXPECT_NEAR(u[0].v_WC_m_s.x() + u[1].v_WC_m_s.x(), 0.0, 1e-9);  // frictionless ground: x momentum kept
+  EXPECT_NEAR(u[0].v_WBcm_m_s.z(), 0.0, 1e-9);   // neither into the ground nor up
+  EXPECT_NEAR(u[0].w_WB_rad_s.norm(), 0.0, 1e-9);
+  EXPECT_GE(u[1].v_WBcm_m_s.x() - u[0].v_WBcm_m_s.x(), 0.1 - 1e-9);  // box 1's own demand holds
+  EXPECT_NEAR(u[0].v_WBcm_m_s.x() + u[1].v_WBcm_m_s.x(), 0.0, 1e-9);  // frictionless ground: x momentum kept
 }
 
 // A stack of three boxes at rest falls as one under gravity: the contacts between boxes
@@ -178,7 +178,7 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
   std::vector<ContactRow> rows;
   for (int k = 0; k < 3; ++k) {
     inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
-    u[k].v_WC_m_s = {0, 0, -g_h};
+    u[k].v_WBcm_m_s = {0, 0, -g_h};
     for (const double dy : {-0.1, 0.1})
       for (const double dx : {-0.1, 0.1}) {
         ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
@@ -195,9 +195,9 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
     for (std::size_t r = 0; r < rows.size(); ++r) rows[r].pushed_before = cold.normal_impulses_N_s[r] > 0;
     const ContactSolveResult hinted = solve_contacts(inertia, hinted_u, rows, {});
     for (int k = 0; k < 3; ++k) {
-      EXPECT_LE(cold_u[k].v_WC_m_s.norm() + cold_u[k].w_W_rad_s.norm(), 1e-12) << what << ": box " << k << " should be held";
-      EXPECT_LE((hinted_u[k].v_WC_m_s - cold_u[k].v_WC_m_s).norm(), 1e-12) << what;
-      EXPECT_LE((hinted_u[k].w_W_rad_s - cold_u[k].w_W_rad_s).norm(), 1e-12) << what;
+      EXPECT_LE(cold_u[k].v_WBcm_m_s.norm() + cold_u[k].w_WB_rad_s.norm(), 1e-12) << what << ": box " << k << " should be held";
+      EXPECT_LE((hinted_u[k].v_WBcm_m_s - cold_u[k].v_WBcm_m_s).norm(), 1e-12) << what;
+      EXPECT_LE((hinted_u[k].w_WB_rad_s - cold_u[k].w_WB_rad_s).norm(), 1e-12) << what;
     }
     return std::make_pair(cold, hinted);
   };
@@ -228,7 +228,7 @@ TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
   std::vector<ContactRow> rows;
   for (int k = 0; k < boxes; ++k) {
     inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
-    u[k].v_WC_m_s = {0.003, 0, -9.81e-3};  // sliding along x, with a 1 ms step of gravity
+    u[k].v_WBcm_m_s = {0.003, 0, -9.81e-3};  // sliding along x, with a 1 ms step of gravity
     for (const double dy : {-0.1, 0.1})
       for (const double dx : {-0.1, 0.1}) {
         ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
@@ -264,7 +264,7 @@ TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
   const ContactSolveResult settled = solve_contacts(inertia, settled_u, settled_rows, iterative);
   EXPECT_LE(settled.iterations, 1);
   EXPECT_LE(settled.kkt_residual_m_s, 1e-9);
-  for (int k = 0; k < boxes; ++k) EXPECT_LE((settled_u[k].v_WC_m_s - frictionless_u[k].v_WC_m_s).norm(), 1e-9);
+  for (int k = 0; k < boxes; ++k) EXPECT_LE((settled_u[k].v_WBcm_m_s - frictionless_u[k].v_WBcm_m_s).norm(), 1e-9);
   // The impulses reported: the normal along the normal, the friction against the slide.
   EXPECT_NEAR(exact.impulses_W_N_s[0].dot(rows[0].normal_W), exact.normal_impulses_N_s[0], 1e-15);
   EXPECT_LT(exact.impulses_W_N_s[0].x(), 0);
@@ -282,7 +282,7 @@ TEST(SolvedIslands, AnIterativeReSolveGoesOnFromTheIslandsEarlierSolve) {
   for (int k = 0; k < boxes; ++k) {
     inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
     keys.push_back(100 + k);
-    falling[k].v_WC_m_s = {0.003, 0, -9.81e-3};
+    falling[k].v_WBcm_m_s = {0.003, 0, -9.81e-3};
     for (const double dy : {-0.1, 0.1})
       for (const double dx : {-0.1, 0.1}) {
         ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
@@ -326,7 +326,7 @@ TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
   for (int k = 0; k < boxes; ++k) {
     const double x = 0.2 * k;
     inertia.push_back(unit_box({x, 0, 0.1}));
-    u[k].v_WC_m_s = {k % 3 == 0 ? 0.02 : -0.01, 0.005 * (k % 2), -9.81e-3};  // sliding and sticking boxes
+    u[k].v_WBcm_m_s = {k % 3 == 0 ? 0.02 : -0.01, 0.005 * (k % 2), -9.81e-3};  // sliding and sticking boxes
     for (const double dy : {-0.1, 0.1})
       for (const double dx : {-0.1, 0.1}) {
         ContactRow row = on_ground(k, {x + dx, dy, 0});
@@ -352,8 +352,8 @@ TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
   std::printf("friction sweeps: %d iterations with the tolerance, %d without\n", settled.iterations, full.iterations);
   EXPECT_LT(settled.iterations, full.iterations);
   for (int k = 0; k < boxes; ++k) {
-    EXPECT_LE((settled_u[k].v_WC_m_s - full_u[k].v_WC_m_s).norm(), 1e-5) << "box " << k;
-    EXPECT_NEAR(settled_u[k].v_WC_m_s.z(), 0, 1e-9) << "box " << k;  // the normals stay exact
+    EXPECT_LE((settled_u[k].v_WBcm_m_s - full_u[k].v_WBcm_m_s).norm(), 1e-5) << "box " << k;
+    EXPECT_NEAR(settled_u[k].v_WBcm_m_s.z(), 0, 1e-9) << "box " << k;  // the normals stay exact
   }
 }
 

@@ -68,7 +68,7 @@ TEST(Sleeping, ABoxAtRestFallsAsleepAndCostsNothing) {
   }
   EXPECT_TRUE(world.asleep(box));
   EXPECT_TRUE(world.bodies()[box].X_WB.matrix() == X_asleep.matrix()) << "a sleeper does not creep";
-  EXPECT_TRUE(world.bodies()[box].v_WC_m_s.isZero());
+  EXPECT_TRUE(world.bodies()[box].v_WBcm_m_s.isZero());
   EXPECT_NEAR(world.bodies()[box].X_WB.translation().z(), 0.1, 2e-6);
 }
 
@@ -108,7 +108,7 @@ TEST(Sleeping, AMovingTrackedBodyWakesASleeperInTimeToPushIt) {
   EXPECT_LE(deepest, options.overlap_tolerance_m);
   // Pushed from x = 0 by the pusher's face (which ends at x = 0.2 - 0.1 = 0.1).
   EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.19);
-  EXPECT_NEAR(world.bodies()[target].v_WC_m_s.x(), 0.5, 0.05);
+  EXPECT_NEAR(world.bodies()[target].v_WBcm_m_s.x(), 0.5, 0.05);
 }
 
 // A box dropped onto a sleeping stack wakes the box it lands on, and that one the box
@@ -173,7 +173,7 @@ TEST(Sleeping, ABodyPlacedIntoASleeperWakesIt) {
   EXPECT_LE(overlap_m(world, p, target), options.overlap_tolerance_m);
   EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.005 - options.overlap_tolerance_m);
   // Pushed apart, not launched: it slides off (a frictionless floor) no faster than that.
-  EXPECT_LE(world.bodies()[target].v_WC_m_s.norm(), options.max_depenetration_speed_m_s + 1e-9);
+  EXPECT_LE(world.bodies()[target].v_WBcm_m_s.norm(), options.max_depenetration_speed_m_s + 1e-9);
 }
 
 }  // namespace

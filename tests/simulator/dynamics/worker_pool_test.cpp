@@ -54,7 +54,7 @@ TEST(WorkerPool, AWorldStepsToTheSameBitsOnAnyNumberOfThreads) {
     for (std::size_t i = 0; i < one.bodies().size(); ++i) {
       const RigidBody& a = one.bodies()[i];
       const RigidBody& b = three.bodies()[i];
-      ASSERT_TRUE(a.X_WB.matrix() == b.X_WB.matrix() && a.v_WC_m_s == b.v_WC_m_s && a.w_W_rad_s == b.w_W_rad_s)
+      ASSERT_TRUE(a.X_WB.matrix() == b.X_WB.matrix() && a.v_WBcm_m_s == b.v_WBcm_m_s && a.w_WB_rad_s == b.w_WB_rad_s)
           << a.id << " differs at step " << step;
     }
   }

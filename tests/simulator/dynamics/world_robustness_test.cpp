@@ -144,10 +144,10 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
   RigidBody b = cube("tumbler", {0, 0, 0});
   b.shape = collision::Shape::box({0.3, 0.2, 0.1});
   b.mass = geometry::with_mass(geometry::box_mass_properties({0.3, 0.2, 0.1}, 1000), 1.0);
-  b.w_W_rad_s = Eigen::Vector3d(1, 30, 1);
+  b.w_WB_rad_s = Eigen::Vector3d(1, 30, 1);
   world.add_body(b);
   auto energy = [&] { return world.bodies()[0].kinetic_energy_J(); };
-  auto momentum = [&] { return Eigen::Vector3d(world.bodies()[0].inertia_W() * world.bodies()[0].w_W_rad_s); };
+  auto momentum = [&] { return Eigen::Vector3d(world.bodies()[0].inertia_W() * world.bodies()[0].w_WB_rad_s); };
   const double e0 = energy();
   const Eigen::Vector3d L0 = momentum();
   double worst_energy = 0, worst_size = 0, worst_direction = 0, fastest = 0;
@@ -156,7 +156,7 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
     worst_energy = std::max(worst_energy, std::abs(energy() / e0 - 1));
     worst_size = std::max(worst_size, std::abs(momentum().norm() / L0.norm() - 1));
     worst_direction = std::max(worst_direction, (momentum() - L0).norm() / L0.norm());
-    fastest = std::max(fastest, world.bodies()[0].w_W_rad_s.norm());
+    fastest = std::max(fastest, world.bodies()[0].w_WB_rad_s.norm());
   }
   EXPECT_LT(worst_energy, 1e-4);
   EXPECT_LT(worst_size, 1e-4);
@@ -172,8 +172,8 @@ TEST(WorldRobustness, StepsCutByImpactsAddGravityOnce) {
   World world;
   RigidBody left = cube("left", {-0.1 - 5e-7, 0, 0});
   RigidBody right = cube("right", {0.1 + 5e-7, 0, 0});
-  left.w_W_rad_s = Eigen::Vector3d(0, 10, 0);
-  right.w_W_rad_s = Eigen::Vector3d(0, -10, 0);
+  left.w_WB_rad_s = Eigen::Vector3d(0, 10, 0);
+  right.w_WB_rad_s = Eigen::Vector3d(0, -10, 0);
   const int a = world.add_body(left);
   const int b = world.add_body(right);
   const double mass = world.bodies()[a].mass.mass_kg + world.bodies()[b].mass.mass_kg;
@@ -181,7 +181,7 @@ TEST(WorldRobustness, StepsCutByImpactsAddGravityOnce) {
   for (int k = 0; k < 50; ++k) {
     events += world.step(0.01).events;
     const Eigen::Vector3d momentum =
-        world.bodies()[a].mass.mass_kg * world.bodies()[a].v_WC_m_s + world.bodies()[b].mass.mass_kg * world.bodies()[b].v_WC_m_s;
+        world.bodies()[a].mass.mass_kg * world.bodies()[a].v_WBcm_m_s + world.bodies()[b].mass.mass_kg * world.bodies()[b].v_WBcm_m_s;
     ASSERT_NEAR(momentum.z(), -mass * 9.81 * 0.01 * (k + 1), 1e-9) << "step " << k;
     ASSERT_NEAR(momentum.head<2>().norm(), 0.0, 1e-9) << "step " << k;
   }
@@ -223,7 +223,7 @@ TEST(WorldRobustness, AnImpactThatSendsABodyIntoAnotherGroupMergesTheGroups) {
     b.shape = collision::Shape::sphere(0.05);
     b.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
     b.X_WB = geometry::translation_pose({x_m, 0, 0});
-    b.v_WC_m_s = {v_m_s, 0, 0};
+    b.v_WBcm_m_s = {v_m_s, 0, 0};
     b.restitution = 1.0;
     return b;
   };
@@ -236,8 +236,8 @@ TEST(WorldRobustness, AnImpactThatSendsABodyIntoAnotherGroupMergesTheGroups) {
   EXPECT_GE((bodies[b].X_WB.translation() - bodies[a].X_WB.translation()).norm(), 0.1 - 1e-6);
   EXPECT_GE((bodies[c].X_WB.translation() - bodies[b].X_WB.translation()).norm(), 0.1 - 1e-6);
   // An elastic chain of equal masses: the speed ends in c.
-  EXPECT_NEAR(bodies[c].v_WC_m_s.x(), 10.0, 0.1);
-  EXPECT_NEAR(bodies[a].v_WC_m_s.x() + bodies[b].v_WC_m_s.x() + bodies[c].v_WC_m_s.x(), 10.0, 1e-9);
+  EXPECT_NEAR(bodies[c].v_WBcm_m_s.x(), 10.0, 0.1);
+  EXPECT_NEAR(bodies[a].v_WBcm_m_s.x() + bodies[b].v_WBcm_m_s.x() + bodies[c].v_WBcm_m_s.x(), 10.0, 1e-9);
 }
 
 // A step cut at a time of impact goes on from there; the pairs whose motion the cut did
@@ -256,7 +256,7 @@ TEST(WorldRobustness, ACutSweepsOnlyThePairsItChanged) {
     b.shape = collision::Shape::sphere(0.05);
     b.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
     b.X_WB = geometry::translation_pose({x_m, y_m, 0});
-    b.v_WC_m_s = {v_m_s, 0, 0};
+    b.v_WBcm_m_s = {v_m_s, 0, 0};
     b.restitution = 1.0;
     return b;
   };
@@ -269,16 +269,16 @@ TEST(WorldRobustness, ACutSweepsOnlyThePairsItChanged) {
   std::vector<int> row;
   for (int k = 1; k <= kRowBalls; ++k) {
     RigidBody r = ball("row" + std::to_string(k), -0.08 * k, k % 2 ? 0.08 : 0.0, 0.0);
-    r.v_WC_m_s = {0, k % 2 ? -0.5 : 0.5, 0};
+    r.v_WBcm_m_s = {0, k % 2 ? -0.5 : 0.5, 0};
     row.push_back(world.add_body(r));
   }
   const StepReport report = world.step(0.01);
   EXPECT_EQ(report.events, 1);
   const auto& bodies = world.bodies();
-  EXPECT_NEAR(bodies[c].v_WC_m_s.x(), 10.0, 0.1);
-  EXPECT_NEAR(bodies[a].v_WC_m_s.norm(), 0.0, 0.1);
+  EXPECT_NEAR(bodies[c].v_WBcm_m_s.x(), 10.0, 0.1);
+  EXPECT_NEAR(bodies[a].v_WBcm_m_s.norm(), 0.0, 0.1);
   for (int r : row) {  // untouched
-    EXPECT_EQ(bodies[r].v_WC_m_s.norm(), 0.5);
+    EXPECT_EQ(bodies[r].v_WBcm_m_s.norm(), 0.5);
     EXPECT_NEAR(bodies[r].X_WB.translation().y(), (r - c) % 2 ? 0.075 : 0.005, 1e-15);
   }
   // The row's pairs (a with the first, each with the next) are swept once: 11 queries in
@@ -391,7 +391,7 @@ TEST(WorldRobustness, ASphereLandingOnAPlaneIsConstrainedInTheStep) {
   ball.shape = collision::Shape::sphere(0.05);
   ball.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
   ball.X_WB = geometry::translation_pose({0, 0, 0.0515});  // beyond the contact tolerance
-  ball.v_WC_m_s = {0, 0, -2};  // meets the plane three quarters into the step
+  ball.v_WBcm_m_s = {0, 0, -2};  // meets the plane three quarters into the step
   const int b = world.add_body(ball);
   const StepReport report = world.step(1e-3);
   EXPECT_GE(report.impacts_resolved, 1);
@@ -401,7 +401,7 @@ TEST(WorldRobustness, ASphereLandingOnAPlaneIsConstrainedInTheStep) {
   // symplectic Euler step), on or above the plane.
   EXPECT_GE(landed.X_WB.translation().z(), 0.05 - world.options().overlap_tolerance_m);
   EXPECT_LE(landed.X_WB.translation().z(), 0.0515);
-  EXPECT_NEAR(landed.v_WC_m_s.z(), 0, 1e-3);  // inelastic: it stops
+  EXPECT_NEAR(landed.v_WBcm_m_s.z(), 0, 1e-3);  // inelastic: it stops
 }
 
 // A resting pair moving slowly relative to each other is held by its contacts and
@@ -416,7 +416,7 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
   world.add_body(base);
   const double gap = world.options().contact_gap_m;
   const int top = world.add_body(cube("top", {0, 0, 0.3 + gap}));
-  world.body(top).v_WC_m_s = {0.1, 0, 0};  // 0.1 mm per step, frictionless
+  world.body(top).v_WBcm_m_s = {0.1, 0, 0};  // 0.1 mm per step, frictionless
   int queries = 0;
   for (int k = 0; k < 100; ++k) queries += world.step(1e-3).ccd_queries;
   EXPECT_EQ(queries, 0);
@@ -433,7 +433,7 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
     w.add_body(under);
     RigidBody slider = cube("slider", {0, 0, 0.3 + gap});
     slider.restitution = restitution;
-    slider.v_WC_m_s = {speed_m_s, 0, 0};
+    slider.v_WBcm_m_s = {speed_m_s, 0, 0};
     w.add_body(slider);
     return w.step(1e-3).ccd_queries;
   };
@@ -473,7 +473,7 @@ TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
     fixed.motion = BodyMotion::kStatic;
     world.add_body(fixed);
     const int slider = world.add_body(mesh_cube("slider", {-0.05, 0, 0.0805}));
-    world.body(slider).v_WC_m_s = {speed_m_s, 0, 0};
+    world.body(slider).v_WBcm_m_s = {speed_m_s, 0, 0};
     std::vector<int> tests, queries;
     for (int k = 0; k < 20; ++k) {
       const StepReport report = world.step(0.01);
@@ -505,8 +505,8 @@ TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
     infeasible |= report.infeasible;
     const RigidBody& body = world.bodies()[b];
     ASSERT_TRUE(body.X_WB.matrix().allFinite()) << "step " << k;
-    ASSERT_TRUE(body.v_WC_m_s.allFinite() && body.w_W_rad_s.allFinite()) << "step " << k;
-    ASSERT_LE(body.v_WC_m_s.norm(), 1.0) << "launched at step " << k;
+    ASSERT_TRUE(body.v_WBcm_m_s.allFinite() && body.w_WB_rad_s.allFinite()) << "step " << k;
+    ASSERT_LE(body.v_WBcm_m_s.norm(), 1.0) << "launched at step " << k;
     // Nor pressed into the floor: the press's overlap cannot be undone, the floor's
     // support still holds (it was dropped with the rest: 28 um deep by step 4).
     ASSERT_GE(body.X_WB.translation().z(), 0.1 - 1e-5) << "sank at step " << k;
@@ -548,7 +548,7 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
     const double energy_after = energy_J();
     ASSERT_LE(energy_after, energy_before + 1e-9) << "step " << k;
     energy_before = energy_after;
-    fastest_spin = std::max(fastest_spin, world.bodies()[bunny].w_W_rad_s.norm());
+    fastest_spin = std::max(fastest_spin, world.bodies()[bunny].w_WB_rad_s.norm());
   }
   EXPECT_GT(fastest_spin, 5.0);  // it did land off-centre (12 rad/s here)
   EXPECT_NEAR(world.bodies()[bunny].com_W().z(), 0.04, 0.02);  // and rests on the table
@@ -578,8 +578,8 @@ TEST(WorldRobustness, FrictionalPileIsNeverLaunched) {
       // its throw. (Two bunnies falling off the table touching and spinning reached
       // 25 m/s when a step cut at an impact added gravity again; fixed.)
       if (b.is_dynamic() && b.X_WB.translation().norm() <= 10.0) {
-        ASSERT_LT(b.v_WC_m_s.norm(), 17.0) << b.id << " at step " << i;
-        ASSERT_LT(b.w_W_rad_s.norm(), 300.0) << b.id << " at step " << i;
+        ASSERT_LT(b.v_WBcm_m_s.norm(), 17.0) << b.id << " at step " << i;
+        ASSERT_LT(b.w_WB_rad_s.norm(), 300.0) << b.id << " at step " << i;
       }
     }
   }
@@ -594,8 +594,8 @@ TEST(WorldRobustness, EventsPerStepAreCapped) {
   // Ten boxes falling onto the floor at once, turning: impacts in the same step.
   for (int i = 0; i < 10; ++i) {
     RigidBody b = cube("box" + std::to_string(i), {0.5 * i, 0, 0.3 + 0.01 * i});
-    b.w_W_rad_s = Eigen::Vector3d(3, 1, 0);
-    b.v_WC_m_s = Eigen::Vector3d(0, 0, -3);
+    b.w_WB_rad_s = Eigen::Vector3d(3, 1, 0);
+    b.v_WBcm_m_s = Eigen::Vector3d(0, 0, -3);
     world.add_body(b);
   }
   for (int k = 0; k < 300; ++k) {

@@ -62,8 +62,8 @@ TEST(WorldScenes, FrictionlessBoxOnInclineAcceleratesAtGSin30) {
     }
     const RigidBody& body = world.bodies()[b];
     const Eigen::Vector3d down_slope(-std::cos(slope), 0, -std::sin(slope));
-    EXPECT_NEAR(body.v_WC_m_s.dot(down_slope) / 1.0, 9.81 * 0.5, 1e-9) << "dt " << dt;
-    EXPECT_NEAR(body.v_WC_m_s.dot(n), 0.0, 1e-9);
+    EXPECT_NEAR(body.v_WBcm_m_s.dot(down_slope) / 1.0, 9.81 * 0.5, 1e-9) << "dt " << dt;
+    EXPECT_NEAR(body.v_WBcm_m_s.dot(n), 0.0, 1e-9);
     EXPECT_LE(deepest, 1e-6) << "dt " << dt;
     // Resting on the incline: the gap to the plane stays within [0, 1e-6].
     const double height = n.dot(body.X_WB.translation()) - 0.1;
@@ -100,9 +100,9 @@ TEST(WorldScenes, FrictionOnAnInclineIsTheSameInEveryHeading) {
       const Eigen::Vector3d down_slope = turn.linear() * Eigen::Vector3d(-std::cos(slope), 0, -std::sin(slope));
       const double expected_m_s = std::max(0.0, 9.81 * (std::sin(slope) - mu * std::cos(slope)));
       SCOPED_TRACE("mu " + std::to_string(mu) + ", heading " + std::to_string(heading_deg) + " deg");
-      EXPECT_NEAR(body.v_WC_m_s.dot(down_slope), expected_m_s, 1e-6);
-      EXPECT_NEAR((body.v_WC_m_s - body.v_WC_m_s.dot(down_slope) * down_slope).norm(), 0.0, 1e-6);
-      EXPECT_LT(body.w_W_rad_s.norm(), 1e-5);
+      EXPECT_NEAR(body.v_WBcm_m_s.dot(down_slope), expected_m_s, 1e-6);
+      EXPECT_NEAR((body.v_WBcm_m_s - body.v_WBcm_m_s.dot(down_slope) * down_slope).norm(), 0.0, 1e-6);
+      EXPECT_LT(body.w_WB_rad_s.norm(), 1e-5);
     }
   }
 }
@@ -170,7 +170,7 @@ TEST(WorldScenes, FastSphereNeverTunnelsThroughThinWall) {
     world.add_body(wall);
     const double dt = 0.01;
     RigidBody ball = sphere("ball", at({1e-4 + 50 * dt * k / 10.0, 0, 1}), 0.02, 0.05);
-    ball.v_WC_m_s = Eigen::Vector3d(50, 0, 0);
+    ball.v_WBcm_m_s = Eigen::Vector3d(50, 0, 0);
     const int b = world.add_body(ball);
     double furthest = 0;
     for (int s = 0; s < 20; ++s) {
@@ -179,7 +179,7 @@ TEST(WorldScenes, FastSphereNeverTunnelsThroughThinWall) {
     }
     EXPECT_LE(furthest + 0.02, 1.0 - 0.0025 + 1e-6) << "phase " << k;  // never beyond the wall's near face
     // Inelastic: stopped, up to the slow push that keeps the resting gap.
-    EXPECT_NEAR(world.bodies()[b].v_WC_m_s.x(), 0.0, 5e-3) << "phase " << k;
+    EXPECT_NEAR(world.bodies()[b].v_WBcm_m_s.x(), 0.0, 5e-3) << "phase " << k;
   }
 }
 
@@ -223,8 +223,8 @@ PushResult run_push(double dt, double noise_m, std::optional<double> friction, b
     world.step(dt);
     const RigidBody& box_body = world.bodies()[b];
     const RigidBody& pusher_body = world.bodies()[p];
-    result.peak_box_speed = std::max(result.peak_box_speed, box_body.v_WC_m_s.norm());
-    result.peak_pusher_speed = std::max(result.peak_pusher_speed, pusher_body.v_WC_m_s.norm());
+    result.peak_box_speed = std::max(result.peak_box_speed, box_body.v_WBcm_m_s.norm());
+    result.peak_pusher_speed = std::max(result.peak_pusher_speed, pusher_body.v_WBcm_m_s.norm());
     result.max_overlap_m = std::max(result.max_overlap_m, pusher_body.X_WB.translation().x() + 0.2 - box_body.X_WB.translation().x());
   }
   result.final_box_x = world.bodies()[b].X_WB.translation().x();
@@ -272,7 +272,7 @@ TEST(WorldScenes, ElasticBallKeepsItsApexOverTenBounces) {
     for (int s = 0; s < static_cast<int>(12.0 / dt) && bounces <= 10; ++s) {
       world.step(dt);
       const double z = world.bodies()[b].X_WB.translation().z() - 0.1;
-      const double vz = world.bodies()[b].v_WC_m_s.z();
+      const double vz = world.bodies()[b].v_WBcm_m_s.z();
       apex = std::max(apex, z);
       if (last_vz > 0 && vz <= 0) {  // passing the top
         apexes.push_back(apex);

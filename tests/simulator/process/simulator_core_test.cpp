@@ -320,7 +320,7 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   std::vector<RecoveredBody> saved;
   for (const auto& body : before.world().bodies()) {
     if (body.real || !body.is_dynamic()) continue;
-    saved.push_back({body.id, body.model, body.X_WB, body.origin_velocity(), body.w_W_rad_s});
+    saved.push_back({body.id, body.model, body.X_WB, body.origin_velocity(), body.w_WB_rad_s});
   }
   ASSERT_EQ(saved.size(), 4u);  // bunny#0 from the scene, bunny#1..3 spawned
   RecoveredBody unknown = saved.back();

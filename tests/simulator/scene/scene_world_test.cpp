@@ -81,7 +81,7 @@ TEST(SceneWorld, AMeshSlidingSlowlyOnTheTableIsCheckedAtTheEndOfItsMotionNotSwep
   const RigidBody& table = world.bodies()[world.find("table")];
   const Eigen::Vector3d rest = body.X_WB.translation();
   EXPECT_NEAR(rest.z(), 0.04, 1e-4);  // on its face, not on an edge
-  world.body(index).v_WC_m_s = Eigen::Vector3d(0.05, 0, 0);
+  world.body(index).v_WBcm_m_s = Eigen::Vector3d(0.05, 0, 0);
   int swept = 0;
   for (int k = 0; k < 100; ++k) {
     swept += world.step(0.01).ccd_queries;
@@ -173,7 +173,7 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
     world.step(0.01);
     const RigidBody& body = world.bodies()[pushed];
     crossing_steps += collision::intersects(mesh, upright, mesh, body.X_WB);
-    fastest_m_s = std::max(fastest_m_s, body.v_WC_m_s.norm());
+    fastest_m_s = std::max(fastest_m_s, body.v_WBcm_m_s.norm());
   }
   EXPECT_LT(crossing_steps, 10);
   EXPECT_FALSE(collision::intersects(mesh, upright, mesh, world.bodies()[pushed].X_WB));
@@ -195,13 +195,13 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
     for (int k = 0; k < 100; ++k) {
       const bool inside = lowest_z(world.bodies()[index]) < 0;
       world.step(0.01);
-      if (inside) fastest_m_s = std::max(fastest_m_s, world.bodies()[index].v_WC_m_s.norm());
+      if (inside) fastest_m_s = std::max(fastest_m_s, world.bodies()[index].v_WBcm_m_s.norm());
     }
     const RigidBody& body = world.bodies()[index];
     const double rest_gap_m = world.options().contact_gap_m + 1e-6;
     EXPECT_GE(lowest_z(body), 0) << "placed " << depth_m << " m deep";
     EXPECT_LE(lowest_z(body), rest_gap_m) << "placed " << depth_m << " m deep";
-    EXPECT_LT(body.v_WC_m_s.norm(), 1e-6) << "placed " << depth_m << " m deep";
+    EXPECT_LT(body.v_WBcm_m_s.norm(), 1e-6) << "placed " << depth_m << " m deep";
     EXPECT_LE(fastest_m_s, 1.5 * world.options().max_depenetration_speed_m_s) << "placed " << depth_m << " m deep";
     // Moved there again, as a recovered body is (World::place_body): the same.
     geometry::Pose again = body.X_WB;
