@@ -112,15 +112,15 @@ std::optional<Pose> ObjectTracker::predicted(const Track& track, int64_t utime) 
   if (!track.seen) return std::nullopt;
   const double age = seconds_between(utime, track.last_seen_utime);
   if (age > options_.memory_s || age < 0) return std::nullopt;
-  return exp_twist(track.X_CO, track.v_m_s, track.w_rad_s, age);
+  return exp_twist(track.X_CS, track.v_m_s, track.w_rad_s, age);
 }
 
 void ObjectTracker::record(Track& track, const Pose& X_CO, int64_t utime) {
   if (track.seen) {
     const double dt = seconds_between(utime, track.last_seen_utime);
     if (dt > 0 && dt <= options_.memory_s) {
-      track.v_m_s = (X_CO.translation() - track.X_CO.translation()) / dt;
-      const Eigen::AngleAxisd dR(X_CO.linear() * track.X_CO.linear().transpose());
+      track.v_m_s = (X_CO.translation() - track.X_CS.translation()) / dt;
+      const Eigen::AngleAxisd dR(X_CO.linear() * track.X_CS.linear().transpose());
       track.w_rad_s = dR.axis() * dR.angle() / dt;
     } else {
       track.v_m_s.setZero();
@@ -129,7 +129,7 @@ void ObjectTracker::record(Track& track, const Pose& X_CO, int64_t utime) {
   }
   track.seen = true;
   track.last_seen_utime = utime;
-  track.X_CO = X_CO;
+  track.X_CS = X_CO;
 }
 
 int ObjectTracker::choose_branch(Track& track, const std::array<Pose, 2>& X_CO, const MarkerPoseSolutions& solutions,
@@ -271,7 +271,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
   }
   // A fixed camera keeps its last world pose while the world markers are hidden.
   result.camera_world_valid = world_track_.seen;
-  if (world_track_.seen) result.X_WC = world_track_.X_CO.inverse();
+  if (world_track_.seen) result.X_WC = world_track_.X_CS.inverse();
 
   for (const auto& object : model_.objects) {
     Track& track = tracks_[object.id];
@@ -312,10 +312,10 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
       if (obs.reason.empty()) obs.reason = "not seen for " + milliseconds_text(age);
       if (age <= options_.predict_s && age >= 0) {
         obs.status = TrackStatus::kPredicted;
-        obs.X_CO = exp_twist(track.X_CO, track.v_m_s, track.w_rad_s, age);
+        obs.X_CO = exp_twist(track.X_CS, track.v_m_s, track.w_rad_s, age);
       } else {
         obs.status = TrackStatus::kLost;
-        obs.X_CO = track.X_CO;
+        obs.X_CO = track.X_CS;
         track.filter.reset();
       }
     } else if (obs.reason.empty()) {

@@ -127,11 +127,13 @@ class ObjectTracker {
   const TrackerOptions& options() const { return options_; }
 
  private:
+  // A rigid set S followed over frames: an object (S = O), or the world's markers
+  // (S = W: X_CS is X_CW).
   struct Track {
     bool seen = false;
     int64_t last_seen_utime = 0;
-    Pose X_CO = Pose::Identity();
-    // Twist of O in C from the last two measurements (for prediction).
+    Pose X_CS = Pose::Identity();
+    // Twist of S in C from the last two measurements (for prediction).
     Eigen::Vector3d v_m_s = Eigen::Vector3d::Zero();
     Eigen::Vector3d w_rad_s = Eigen::Vector3d::Zero();
     PoseFilter filter;
@@ -161,7 +163,7 @@ class ObjectTracker {
   TrackerOptions options_;
   std::vector<MarkerModel> world_markers_;  // markers of world-fixing objects, X_OM = X_WM
   std::map<std::string, Track> tracks_;     // by object id
-  Track world_track_;                       // X_CO holds X_CW
+  Track world_track_;                       // S = W
   std::map<std::pair<std::string, int>, Pose> loose_markers_;  // last X_CM of markers no object declares
   std::map<std::pair<std::string, int>, int64_t> loose_seen_utime_;
 };
