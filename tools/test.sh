@@ -29,7 +29,7 @@ fi
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
   -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DCMAKE_UNITY_BUILD=OFF >/dev/null
-unit_tests=(geometry_test config_test msg_test collision_test fcl_oracle_test convex_ccd_test dynamics_test sim_process_test tracking_test
+unit_tests=(geometry_test config_test msg_test msg_image_test collision_test fcl_oracle_test convex_ccd_test dynamics_test sim_process_test tracking_test
             rendering_test)
 fuzzers=(fuzz_messages write_message_seeds fuzz_configs fuzz_mesh fuzz_ccd_query)
 cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"

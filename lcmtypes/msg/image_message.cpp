@@ -40,4 +40,32 @@ cv::Mat decode_image_message(const arphys::image_t& m) {
   return out;
 }
 
+arphys::image_t encode_image_message(const cv::Mat& image, int64_t capture_utime, int64_t seq,
+                                     const std::string& camera_id, int jpeg_quality) {
+  if (image.empty() || image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3)) {
+    throw std::invalid_argument("encode_image_message: expected a non-empty 8-bit grey or BGR image");
+  }
+  if (jpeg_quality < 0 || jpeg_quality > 100) {
+    throw std::invalid_argument("encode_image_message: jpeg_quality = " + std::to_string(jpeg_quality) +
+                                ": expected 0 (raw) .. 100");
+  }
+  arphys::image_t m{};
+  m.utime = capture_utime;
+  m.seq = seq;
+  m.camera_id = camera_id;
+  m.width = image.cols;
+  m.height = image.rows;
+  if (jpeg_quality > 0) {
+    m.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
+    cv::imencode(".jpg", image, m.data, {cv::IMWRITE_JPEG_QUALITY, jpeg_quality});
+  } else {
+    m.pixel_format = image.channels() == 1 ? arphys::image_t::PIXEL_FORMAT_GRAY8 : arphys::image_t::PIXEL_FORMAT_BGR8;
+    m.row_stride = static_cast<int32_t>(image.cols * image.elemSize());
+    const cv::Mat packed = image.isContinuous() ? image : image.clone();
+    m.data.assign(packed.data, packed.data + packed.total() * packed.elemSize());
+  }
+  m.size = static_cast<int32_t>(m.data.size());
+  return m;
+}
+
 }  // namespace arphys::msg

@@ -406,16 +406,8 @@ int main(int argc, char** argv) {
         cv::imwrite(png_dir + "/overlay_" + std::to_string(message.seq) + ".png", overlay);
       }
       if (overlay_lcm) {
-        arphys::image_t o{};
-        o.utime = message.utime;
-        o.seq = message.seq;
-        o.camera_id = message.camera_id;
-        o.width = overlay.cols;
-        o.height = overlay.rows;
-        o.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-        cv::imencode(".jpg", overlay, o.data, {cv::IMWRITE_JPEG_QUALITY, 90});
-        o.size = static_cast<int32_t>(o.data.size());
-        bus->publish(scene.channels.overlay_image, o);
+        bus->publish(scene.channels.overlay_image,
+                     msg::encode_image_message(overlay, message.utime, message.seq, message.camera_id));
         ++published;
       }
       if (window) {

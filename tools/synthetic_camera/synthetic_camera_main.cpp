@@ -26,6 +26,7 @@
 #include "configs/loader/config_error.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/image_message.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "renderer/drawing/overlay_renderer.hpp"
 #include "renderer/output/video_file.hpp"
@@ -181,22 +182,8 @@ int main(int argc, char** argv) {
           std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(script.effects.delay_ms));
         }
         arphys::ground_truth_t& truth = at.truth;
-        arphys::image_t image{};
-        image.utime = capture_utime;
-        image.seq = seq;
-        image.camera_id = camera_id;
-        image.width = frame.cols;
-        image.height = frame.rows;
-        if (jpeg_quality > 0) {
-          image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-          cv::imencode(".jpg", frame, image.data, {cv::IMWRITE_JPEG_QUALITY, jpeg_quality});
-        } else {
-          image.pixel_format = arphys::image_t::PIXEL_FORMAT_GRAY8;
-          image.row_stride = frame.cols;
-          image.data.assign(frame.data, frame.data + frame.total());
-        }
-        image.size = static_cast<int32_t>(image.data.size());
-        bus->publish(script.scene.channels.camera_image, image);
+        bus->publish(script.scene.channels.camera_image,
+                     msg::encode_image_message(frame, capture_utime, seq, camera_id, jpeg_quality));
         truth.utime = capture_utime;
         truth.seq = seq;
         truth.camera_id = camera_id;

@@ -13,7 +13,6 @@
 #include <optional>
 #include <thread>
 
-#include <opencv2/imgcodecs.hpp>
 
 #include "arphys/image_t.hpp"
 #include "arphys/process_status_t.hpp"
@@ -24,6 +23,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
+#include "lcmtypes/msg/image_message.hpp"
 #include "tracker/app/lcm_image_source.hpp"
 #include "tracker/app/tracker_output.hpp"
 #include "tracker/detection/marker_detector.hpp"
@@ -224,16 +224,8 @@ int main(int argc, char** argv) {
       }
       first_frame = false;
       if (bus && publish_images && !lcm_source) {
-        arphys::image_t image{};
-        image.utime = frame->capture_utime;
-        image.seq = frame->seq;
-        image.camera_id = camera_id;
-        image.width = frame->image.cols;
-        image.height = frame->image.rows;
-        image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-        cv::imencode(".jpg", frame->image, image.data, {cv::IMWRITE_JPEG_QUALITY, 90});
-        image.size = static_cast<int32_t>(image.data.size());
-        bus->publish(scene.channels.camera_image, image);
+        bus->publish(scene.channels.camera_image,
+                     msg::encode_image_message(frame->image, frame->capture_utime, frame->seq, camera_id));
       }
       const auto report = pipeline->process(*frame, frames->frames_independent());
       if (report) {
