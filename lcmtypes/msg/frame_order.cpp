@@ -1,14 +1,17 @@
 #include "lcmtypes/msg/frame_order.hpp"
 
+#include <tuple>
+
 namespace arphys::msg {
 
 FrameOrder::Verdict FrameOrder::check(const std::string& source, int64_t seq, int64_t capture_utime) {
   auto it = newest_.find(source);
-  if (it == newest_.end() && static_cast<int>(newest_.size()) >= kMaxSources) it = newest_.find(std::string());
   if (it == newest_.end()) {
-    const bool full = static_cast<int>(newest_.size()) >= kMaxSources;
-    newest_.emplace(full ? std::string() : source, Newest{seq, capture_utime});
-    return Verdict::kNew;
+    // Past the bound, unknown sources share the entry of the empty id.
+    const bool room = static_cast<int>(newest_.size()) < kMaxSources;
+    bool inserted = false;
+    std::tie(it, inserted) = newest_.try_emplace(room ? source : std::string(), Newest{seq, capture_utime});
+    if (inserted) return Verdict::kNew;
   }
   Newest& n = it->second;
   if (seq == n.seq && capture_utime == n.capture_utime) return Verdict::kDuplicate;

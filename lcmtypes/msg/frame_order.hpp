@@ -18,7 +18,6 @@ class FrameOrder {
 
   // Records the frame when it is new.
   Verdict check(const std::string& source, int64_t seq, int64_t capture_utime);
-  void clear() { newest_.clear(); }
 
  private:
   struct Newest {

@@ -22,6 +22,14 @@ inline geometry::Pose at(const Eigen::Vector3d& p, const Eigen::Vector3d& axis, 
   return X;
 }
 
+// A vector uniform in [-1, 1]^3 from the test's own generator, drawn x, y, z in order
+// (Eigen's Random draws on std::rand, shared by every test in a binary).
+inline Eigen::Vector3d random_vector(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double x = u(rng), y = u(rng), z = u(rng);
+  return {x, y, z};
+}
+
 // A uniformly random turn and a translation within max_translation_m along each axis.
 inline geometry::Pose random_pose(std::mt19937& rng, double max_translation_m) {
   std::uniform_real_distribution<double> u(-1, 1);

@@ -19,15 +19,9 @@ namespace {
 
 using testing::at;
 using testing::kStill;
+using testing::random_vector;
 using geometry::Pose;
 using geometry::ScrewMotion;
-
-// A vector uniform in [-1, 1]^3 from the test's own generator.
-Eigen::Vector3d random_vector(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const double x = u(rng), y = u(rng), z = u(rng);
-  return {x, y, z};
-}
 
 // Our answer against the dense-sampling truth: a true hit must be found, never late
 // (after the first sample found intersecting) and at most 1e-6 before the last free

@@ -13,7 +13,6 @@
 #include <optional>
 #include <thread>
 
-
 #include "arphys/image_t.hpp"
 #include "arphys/process_status_t.hpp"
 #include "arphys/tracker_control_t.hpp"

@@ -10,6 +10,12 @@
 
 namespace arphys::tracking {
 
+namespace {
+// Markers smaller than this (pixels) found by the coarse pass are found again at full
+// resolution: at half resolution a 40 px marker's corners are a pixel off.
+constexpr int kRefineBelowPx = 60;
+}  // namespace
+
 ArucoDetector::ArucoDetector(const std::vector<std::string>& families) : family_names_(families) {
   if (families.empty()) throw std::invalid_argument("ArucoDetector: no marker family given");
   for (const auto& family : families) {
@@ -22,9 +28,7 @@ ArucoDetector::ArucoDetector(const std::vector<std::string>& families) : family_
   parameters_ = cv::aruco::DetectorParameters::create();
   parameters_->cornerRefinementMethod = cv::aruco::CORNER_REFINE_SUBPIX;
   parameters_->cornerRefinementWinSize = 2;
-  // ArUco's corners are only as fine as the grid it searched: a small marker the coarse
-  // pass found is found again at full resolution.
-  search_.set_refine_coarse_below_px(60);
+  search_.set_refine_coarse_below_px(kRefineBelowPx);
 }
 
 std::string ArucoDetector::describe() const {
@@ -68,6 +72,7 @@ void ArucoDetector::set_param(const std::string& name, const std::string& value)
     search_.reset();
   } else if (name == "coarse_decimate") {
     coarse_decimate_ = parse_param_int(name, value, 1, 8);
+    search_.set_refine_coarse_below_px(coarse_decimate_ > 1 ? kRefineBelowPx : 0);  // full resolution needs none
   } else if (name == "scan_tiles") {
     search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
   } else {
@@ -119,6 +124,5 @@ std::vector<DetectedMarker> ArucoDetector::detect_region(const cv::Mat& gray, co
   }
   return markers;
 }
-
 
 }  // namespace arphys::tracking

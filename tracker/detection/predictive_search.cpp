@@ -60,26 +60,21 @@ std::vector<DetectedMarker> PredictiveSearch::detect(const cv::Mat& gray, const 
     const int grow = std::max(12, std::max(b.width, b.height) / 2);
     return cv::Rect(b.x - grow, b.y - grow, b.width + 2 * grow, b.height + 2 * grow) & frame;
   };
-  if (refine_coarse_below_px_ > 0) {
-    const std::vector<DetectedMarker> coarse_found = found;
-    for (const auto& m : coarse_found) {
-      const cv::Rect b = marker_bounds(m);
-      if (std::max(b.width, b.height) >= refine_coarse_below_px_) continue;
-      std::vector<DetectedMarker> fine_found = fine(gray, window_around(b), 1);
-      // Only the marker itself is taken from the window (another found there is whole
-      // in the coarse pass or in its own window).
-      fine_found.erase(std::remove_if(fine_found.begin(), fine_found.end(),
-                                      [&](const DetectedMarker& f) { return !same_marker(f, m); }),
-                       fine_found.end());
-      merge(found, std::move(fine_found));
-    }
+  // Small markers of the coarse pass found again at full resolution (detectors whose
+  // coarse corners are too rough). Only the marker itself is taken from its window:
+  // another one there is whole in the coarse pass or in its own window.
+  for (auto& m : found) {
+    const cv::Rect b = marker_bounds(m);
+    if (std::max(b.width, b.height) >= refine_coarse_below_px_) continue;
+    std::vector<DetectedMarker> again = fine(gray, window_around(b), 1);
+    auto it = std::find_if(again.begin(), again.end(), [&](const DetectedMarker& f) { return same_marker(f, m); });
+    if (it != again.end()) m = std::move(*it);
   }
 
   // Markers of last frame that the coarse pass missed (too small for it) are searched
   // again in a window around their last corners: the bounds grown by half their size
   // (inter-frame motion) and a quiet-zone margin, at full resolution for small markers
-  // and half resolution for the others. Markers the coarse pass found need no window:
-  // their corners are refined at full resolution by the pipeline anyway.
+  // and half resolution for the others (full below refine_coarse_below_px).
   for (const auto& m : previous_) {
     if (std::any_of(found.begin(), found.end(), [&](const DetectedMarker& f) { return same_marker(f, m); })) continue;
     const cv::Rect b = marker_bounds(m);

@@ -14,19 +14,11 @@ namespace {
 using testing::at;
 using testing::expect_toi;
 using testing::kStill;
+using testing::random_vector;
 using geometry::Pose;
 using geometry::ScrewMotion;
 
 Pose at(double x, double y, double z) { return geometry::translation_pose({x, y, z}); }
-
-// A vector uniform in [-1, 1]^3 from the test's own generator (Eigen's Random draws on
-// std::rand, which other tests in the binary draw on too: the cases would depend on
-// which tests ran before).
-Eigen::Vector3d random_vector(std::mt19937& rng) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  const double x = u(rng), y = u(rng), z = u(rng);
-  return {x, y, z};
-}
 
 // A 2 x 2 x 0.1 m slab whose top face is z = 0 (the "table").
 CollisionMesh slab() {
