@@ -72,15 +72,11 @@ double SimulatorCore::shift_clock(double by_s) {
 }
 
 int SimulatorCore::on_tracking(const TrackingFrame& frame) {
-  if (newest_seq_ != 0 || newest_capture_utime_ != 0) {
-    if (frame.seq == newest_seq_ && frame.capture_utime == newest_capture_utime_) {
-      reject("duplicate tracking frame");
-      return 0;
-    }
-    if (frame.capture_utime <= newest_capture_utime_) {
-      reject("out-of-order tracking frame");
-      return 0;
-    }
+  // One stream of tracking frames, whichever tracker sends it (trackers swap live).
+  const auto verdict = frame_order_.check("", frame.seq, frame.capture_utime);
+  if (verdict != msg::FrameOrder::Verdict::kNew) {
+    reject(std::string(msg::to_string(verdict)) + " tracking frame");
+    return 0;
   }
   if (!first_capture_utime_) {
     // Simulation time now corresponds to this capture.

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/frame_order.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/process/tracking_driver.hpp"
 
@@ -153,6 +154,7 @@ class SimulatorCore {
   std::map<std::string, int> spawn_counter_;
   std::map<std::string, int64_t> last_command_seq_;  // per sender
   std::optional<int64_t> first_capture_utime_;
+  msg::FrameOrder frame_order_;
   int64_t newest_capture_utime_ = 0, newest_seq_ = 0;
   bool paused_ = false;
   dynamics::StepReport last_report_;
