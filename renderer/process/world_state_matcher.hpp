@@ -26,9 +26,17 @@ class WorldStateMatcher {
  public:
   explicit WorldStateMatcher(std::size_t capacity = 256) : capacity_(capacity) {}
 
-  void add(int64_t capture_utime, State state) {
-    history_.push_back({capture_utime, std::move(state)});
+  // stamp: what tells this state from another computed from the same frame (the step's
+  // end time); a state whose capture utime and stamp are both in the history already is a
+  // re-sent or replayed copy, not kept: returns false. Stamp 0 is never a copy.
+  bool add(int64_t capture_utime, State state, int64_t stamp = 0) {
+    if (stamp != 0 && std::any_of(history_.begin(), history_.end(),
+                                  [&](const Entry& e) { return e.utime == capture_utime && e.stamp == stamp; })) {
+      return false;
+    }
+    history_.push_back({capture_utime, stamp, std::move(state)});
     if (history_.size() > capacity_) history_.pop_front();
+    return true;
   }
 
   struct Match {
@@ -63,6 +71,7 @@ class WorldStateMatcher {
  private:
   struct Entry {
     int64_t utime;
+    int64_t stamp;
     State state;
   };
   std::size_t capacity_;

@@ -17,6 +17,7 @@
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/clock.hpp"
+#include "lcmtypes/msg/heartbeat.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 #include "tests/support/image_messages.hpp"
 #include "tests/support/spawn_process.hpp"
@@ -90,7 +91,16 @@ TEST(RendererProcess, MatchesWorldStatesToFramesAndCountsBadInput) {
   state.seq = 1;
   state.bodies = {body("bunny#0", "bunny", {0, 0, 0.05}), body("ghost#0", "ghost", {0, 0, 0.1})};
   state.num_bodies = 2;
+  state.step_end_utime = t0 + 40000;
   bus.publish("ARPHYS_WORLD_STATE", state);
+  wait(100);
+  // A copy of it (re-sent, replayed), this time with no bunny: refused, so frame 1 still
+  // gets the original.
+  arphys::world_state_t copy = state;
+  copy.bodies.resize(1);
+  copy.bodies[0] = body("bunny#0", "bunny", {0, 0, 5.0});
+  copy.num_bodies = 1;
+  bus.publish("ARPHYS_WORLD_STATE", copy);
   wait(200);
   bus.publish("ARPHYS_CAMERA_IMAGE", jpeg_frame(grey, t0 + 33333, 1));  // its own state: exact
   wait(400);
@@ -118,7 +128,8 @@ TEST(RendererProcess, MatchesWorldStatesToFramesAndCountsBadInput) {
   ASSERT_FALSE(heartbeats.empty());
   const auto& last = heartbeats.back();
   EXPECT_GE(last.decode_errors, 1);  // the broken JPEG
-  EXPECT_GE(last.rejected, 2);       // the small frame and the unknown model
+  EXPECT_GE(last.rejected, 3);       // the small frame, the unknown model, the copied state
+  EXPECT_EQ(arphys::msg::figure(last, "duplicate world state").value_or(0), 1);
 }
 
 }  // namespace

@@ -54,6 +54,17 @@ TEST(WorldStateMatcher, KeepsTheNewestByArrival) {
   EXPECT_EQ(states.match(133, MatchPolicy::kExact).kind, MatchKind::kExact);
 }
 
+TEST(WorldStateMatcher, AReplayedStateIsNotKeptTwice) {
+  WorldStateMatcher<std::string> states(4);
+  EXPECT_TRUE(states.add(100, "step 1", 5001));
+  EXPECT_TRUE(states.add(100, "step 2", 5002));  // a second step from the same frame
+  EXPECT_FALSE(states.add(100, "step 1 again", 5001));
+  EXPECT_TRUE(states.add(133, "step 3", 5001));  // same stamp, other frame: not a copy
+  // The copy did not push a real state out of the bounded history.
+  EXPECT_TRUE(states.add(166, "step 4", 5004));
+  EXPECT_EQ(*states.match(100, MatchPolicy::kExact).state, "step 2");
+}
+
 TEST(WorldStateMatcher, AnUnknownPolicyIsRefusedByName) {
   EXPECT_EQ(match_policy_from("exact"), MatchPolicy::kExact);
   EXPECT_EQ(std::string(to_string(match_policy_from("nearest-earlier"))), "nearest-earlier");
