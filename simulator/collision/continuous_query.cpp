@@ -62,7 +62,10 @@ class Search {
       std::pop_heap(heap.begin(), heap.end(), LaterFirst{});
       const Task task = heap.back();
       heap.pop_back();
-      if (task.t0 > best_) break;  // every remaining interval starts later
+      // Every remaining interval starts no earlier, so none can improve on best_; with a
+      // strict test, a query whose answer is 0 (a held proxy) went on through every pair
+      // touching at 0.
+      if (task.t0 >= best_) break;
       const Interval T{task.t0, std::min(task.t1, best_)};
       const ObbNode& a = na[task.node_A];
       const ObbNode& b = nb[task.node_B];

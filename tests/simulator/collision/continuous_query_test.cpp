@@ -238,3 +238,31 @@ TEST(ContinuousQuery, BoxSlidingDownOntoABoxMeetsItWhenTheGapCloses) {
 
 }  // namespace
 }  // namespace arphys::collision
+
+namespace arphys::collision {
+namespace {
+
+// A proxy held where times of impact stopped it (application 1's spoon at the teacup, while
+// the tracked spoon goes on into it) meets at once: the query answers 0 after the first
+// touching triangle pair, instead of going on to test every pair whose interval also starts
+// at 0, none of which can be earlier. The held ball's query tested 273 pairs before.
+TEST(ContinuousQuery, HeldProxyAnswersZeroAtTheFirstTouchingPair) {
+  const CollisionMesh ball(geometry::make_sphere_mesh(0.1, 3));
+  const CollisionMesh floor(slab());
+  ContinuousOptions options;
+  options.time_tolerance = 1e-6;  // (a simulation's)
+  const Pose target = at({0.03, 0.01, 0.04}, Eigen::Vector3d::UnitX(), 0.3);
+  Pose proxy = geometry::translation_pose({0, 0, 0.15});
+  ContinuousResult r;
+  for (int step = 0; step < 3; ++step) {  // the proxy stops at each time of impact
+    const ScrewMotion towards(proxy, target);
+    r = time_of_impact(floor, kStill, ball, towards, options);
+    ASSERT_TRUE(r.collides) << step;
+    proxy = towards.pose_at(r.time_of_impact);
+  }
+  EXPECT_EQ(r.time_of_impact, 0.0);
+  EXPECT_LE(r.stats.triangle_pairs_tested, 8) << r.stats.triangle_pairs_tested;
+}
+
+}  // namespace
+}  // namespace arphys::collision
