@@ -1,0 +1,61 @@
+#include "tools/launch/process_commands.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace arphys::launch {
+namespace {
+
+config::SceneConfig box_scene() {
+  return config::load_scene(config::default_config_dir() + "/scenes/bunny_box_table.yaml");
+}
+
+bool has(const std::vector<std::string>& args, const std::string& flag, const std::string& value) {
+  const auto it = std::find(args.begin(), args.end(), flag);
+  return it != args.end() && it + 1 != args.end() && *(it + 1) == value;
+}
+
+TEST(ProcessCommands, SyntheticRunStartsTheCameraLastWithTheScenesUrl) {
+  const config::SceneConfig scene = box_scene();
+  const config::CameraScriptConfig script = config::load_camera_script(default_script_for(scene));
+  LaunchOptions o;
+  o.build_dir = "/b";
+  o.sim_threads = 2;
+  o.out_dir = "/out";
+  o.record = true;
+  const auto commands = process_commands(o, scene, &script, "/out/simulator.state");
+  std::vector<std::string> names;
+  for (const auto& c : commands) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"recorder", "simulator", "renderer", "tracker", "camera"}));
+  const auto& simulator = commands[1].args;
+  EXPECT_EQ(simulator[0], "/b/simulator/app/arphys-simulator");
+  EXPECT_TRUE(has(simulator, "--threads", "2"));
+  EXPECT_TRUE(has(simulator, "--state-file", "/out/simulator.state"));
+  EXPECT_TRUE(has(simulator, "--lcm-url", scene.lcm_url));
+  EXPECT_TRUE(has(commands[2].args, "--video", "/out/overlay.avi"));
+  EXPECT_NE(std::find(commands[2].args.begin(), commands[2].args.end(), "--camera-pose"), commands[2].args.end());
+  EXPECT_EQ(commands[0].args.back(), "/out/run.lcmlog");
+}
+
+TEST(ProcessCommands, RealSourceGoesToTheTrackerAndOnlyPicksProcesses) {
+  const config::SceneConfig scene = box_scene();
+  LaunchOptions o;
+  o.camera = "clip.mp4";
+  o.only = "tracker,renderer";
+  o.lcm_url = "udpm://239.255.76.67:7667?ttl=1";
+  const auto commands = process_commands(o, scene, nullptr, "s.state");
+  ASSERT_EQ(commands.size(), 2u);
+  EXPECT_EQ(commands[0].name, "renderer");
+  EXPECT_EQ(std::find(commands[0].args.begin(), commands[0].args.end(), "--camera-pose"), commands[0].args.end());
+  EXPECT_TRUE(has(commands[1].args, "--source", "clip.mp4"));
+  EXPECT_TRUE(has(commands[1].args, "--lcm-url", o.lcm_url));
+  EXPECT_TRUE(ends_by_itself("tracker", o));  // a video file ends
+  o.camera = "/dev/video0";
+  EXPECT_FALSE(ends_by_itself("tracker", o));  // a webcam does not
+  EXPECT_TRUE(ends_by_itself("camera", o));
+  EXPECT_FALSE(ends_by_itself("simulator", o));
+}
+
+}  // namespace
+}  // namespace arphys::launch

@@ -1,0 +1,84 @@
+#include "tools/launch/process_commands.hpp"
+
+#include <sstream>
+
+#include <Eigen/Geometry>
+
+namespace arphys::launch {
+
+std::string default_script_for(const config::SceneConfig& scene) {
+  const std::string dir = config::default_config_dir() + "/synthetic/";
+  if (scene.name == "bunny_box_table") return dir + "box_push.yaml";
+  if (scene.name == "spoon_teacup") return dir + "spoon_approach.yaml";
+  return "";
+}
+
+bool ends_by_itself(const std::string& name, const LaunchOptions& options) {
+  const bool file_source = options.camera != "synthetic" && options.camera.rfind("/dev/video", 0) != 0;
+  return name == "camera" || (name == "tracker" && file_source);
+}
+
+namespace {
+
+std::string url_of(const LaunchOptions& o, const config::SceneConfig& scene) {
+  return o.lcm_url.empty() ? scene.lcm_url : o.lcm_url;
+}
+
+// Children outlive the run: the launcher stops them, so any earlier exit is a death.
+std::string lifetime_s(const LaunchOptions& o) { return std::to_string(o.duration_s + 30); }
+
+std::vector<std::string> simulator_args(const LaunchOptions& o, const config::SceneConfig& scene,
+                                        const std::string& state_file) {
+  std::vector<std::string> args{o.build_dir + "/simulator/app/arphys-simulator", scene.file, "--lcm-url", url_of(o, scene),
+                                "--duration", lifetime_s(o), "--state-file", state_file};
+  if (!o.tracking_policy.empty()) args.insert(args.end(), {"--tracking-policy", o.tracking_policy});
+  if (o.catch_up_factor > 0) args.insert(args.end(), {"--catch-up-factor", std::to_string(o.catch_up_factor)});
+  if (o.sim_max_lag_s > 0) args.insert(args.end(), {"--max-lag-s", std::to_string(o.sim_max_lag_s)});
+  if (o.sim_threads > 1) args.insert(args.end(), {"--threads", std::to_string(o.sim_threads)});
+  return args;
+}
+
+std::vector<std::string> renderer_args(const LaunchOptions& o, const config::SceneConfig& scene,
+                                       const config::CameraScriptConfig* script) {
+  std::vector<std::string> args{o.build_dir + "/renderer/app/renderer", "--scene", scene.file, "--lcm-url",
+                                url_of(o, scene), "--duration", lifetime_s(o)};
+  if (o.renderer_wait_ms > 0) args.insert(args.end(), {"--wait-ms", std::to_string(o.renderer_wait_ms)});
+  if (!o.out_dir.empty()) {
+    args.insert(args.end(), {"--video", o.out_dir + "/overlay.avi", "--png-dir", o.out_dir + "/snapshots", "--png-every", "90"});
+  }
+  if (script) {  // the synthetic camera's pose, which no marker gives the renderer
+    const auto t = script->X_WC.translation();
+    const Eigen::Quaterniond q(script->X_WC.linear());
+    std::ostringstream pose;
+    pose << t.x() << " " << t.y() << " " << t.z() << " " << q.w() << " " << q.x() << " " << q.y() << " " << q.z();
+    args.insert(args.end(), {"--camera-pose", pose.str()});
+  }
+  return args;
+}
+
+std::vector<std::string> tracker_args(const LaunchOptions& o, const config::SceneConfig& scene) {
+  std::vector<std::string> args{o.build_dir + "/tracker/app/tracker", "--scene", scene.file, "--lcm-url", url_of(o, scene),
+                                "--impl", o.tracker_impl, "--filter", o.tracker_filter, "--duration", lifetime_s(o)};
+  if (o.camera != "synthetic") args.insert(args.end(), {"--source", o.camera, "--publish-images", "--pace"});
+  return args;
+}
+
+}  // namespace
+
+std::vector<ProcessCommand> process_commands(const LaunchOptions& o, const config::SceneConfig& scene,
+                                             const config::CameraScriptConfig* script, const std::string& state_file) {
+  std::vector<ProcessCommand> commands;
+  if (o.record && !o.out_dir.empty()) {
+    commands.push_back({"recorder", {"lcm-logger", "--lcm-url=" + url_of(o, scene), "--force", o.out_dir + "/run.lcmlog"}});
+  }
+  if (o.wanted("simulator")) commands.push_back({"simulator", simulator_args(o, scene, state_file)});
+  if (o.wanted("renderer")) commands.push_back({"renderer", renderer_args(o, scene, script)});
+  if (o.wanted("tracker")) commands.push_back({"tracker", tracker_args(o, scene)});
+  if (script && o.wanted("camera")) {
+    commands.push_back({"camera", {o.build_dir + "/tools/synthetic_camera/arphys-synthetic-camera", script->file,
+                                   "--lcm-url", url_of(o, scene), "--duration", std::to_string(o.duration_s)}});
+  }
+  return commands;
+}
+
+}  // namespace arphys::launch
