@@ -17,7 +17,8 @@ build=(
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
        libccd-dev)                                                              # the convex CCD's GJK oracle
-benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3)
+benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3
+            libvisp-detection-dev)                                                     # the tracker benchmark's peer (ViSP 3.5)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
 
 if [[ "${1:-}" == "--print" ]]; then

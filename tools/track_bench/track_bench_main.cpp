@@ -1,5 +1,6 @@
 // arphys-track-bench: the tracker's speed and accuracy on rendered frames with exact
-// ground truth, every detector configuration on the same frames.
+// ground truth, every detector configuration on the same frames, ViSP's AprilTag
+// detector (the peer) among them.
 //
 //   sweep:    single markers over distance, view angle and size (independent pictures):
 //             detection rate, corner error, pose error, flips.
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <map>
 
+#include "tools/track_bench/visp_detector.hpp"
 #include "tracker/detection/edge_refinement.hpp"
 #include "tracker/detection/marker_detector.hpp"
 #include "tracker/pose/marker_pose.hpp"
@@ -46,6 +48,9 @@ std::vector<Config> configs() {
       {"aruco_t20", {"aruco", {"tag36h11"}, {{"threshold_step", "20"}}}, true},
       {"aruco_roi", {"aruco", {"tag36h11"}, {{"roi_tracking", "1"}}}, true, true},
       {"aruco_roi_t20", {"aruco", {"tag36h11"}, {{"roi_tracking", "1"}, {"threshold_step", "20"}}}, true, true},
+      // The peer, as a ViSP user gets it (its corners without our edge refinement).
+      {"visp_d1", {"visp", {"tag36h11"}, {{"decimate", "1"}}}, false},
+      {"visp_d2", {"visp", {"tag36h11"}, {{"decimate", "2"}}}, false},
   };
 }
 
@@ -58,9 +63,14 @@ std::vector<Config> picture_configs() {
   return list;
 }
 
+std::unique_ptr<MarkerDetector> detector_for(const Config& c) {
+  if (c.spec.implementation == "visp") return bench::make_visp_apriltag(std::stod(c.spec.params.at(0).second));
+  return make_detector(c.spec);
+}
+
 std::vector<std::unique_ptr<MarkerDetector>> make_detectors(const std::vector<Config>& list) {
   std::vector<std::unique_ptr<MarkerDetector>> detectors;
-  for (const auto& c : list) detectors.push_back(make_detector(c.spec));
+  for (const auto& c : list) detectors.push_back(detector_for(c));
   return detectors;
 }
 
@@ -259,7 +269,7 @@ void sequence(const std::string& out_dir, int frames, int repeats, const std::ve
     std::vector<double> ms_all, board_mm, board_deg, tag_mm, tag_deg;
     int board_flips = 0, tag_flips = 0, tag_frames = 0, recalled = 0, reference = 0;
     for (int rep = 0; rep < repeats; ++rep) {
-      auto detector = make_detector(config.spec);
+      auto detector = detector_for(config);
       ObjectTracker tracker(model, camera);
       for (int i = 0; i < frames; ++i) {
         double ms = 0;

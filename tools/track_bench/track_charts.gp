@@ -20,4 +20,4 @@ set xlabel "distance, m"
 set ylabel "% detected"
 set yrange [0:105]
 set key bottom left
-plot for [i=2:7] outdir."/track_detection_rate.dat" using 1:i with linespoints title columnheader(i)
+plot for [i=2:*] outdir."/track_detection_rate.dat" using 1:i with linespoints title columnheader(i)
