@@ -165,6 +165,8 @@ void World::remove_body(int index) {
   contacts_.clear();
   pushed_before_.clear();
   warm_forces_.clear();
+  pending_bounces_.clear();
+  next_bounces_.clear();
   nearby_.clear();
   apart_at_end_.clear();
   apart_at_last_end_.clear();
@@ -380,7 +382,12 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
                 n.dot(bodies_[pair.second].velocity_of_point(m) - bodies_[pair.first].velocity_of_point(m));
             const double missed_bounce_m_s =
                 restitution * (std::abs(v_n - v_n_start) - options_.gravity_m_s2.norm() * force_h);
-            chained |= missed_bounce_m_s > options_.restitution_threshold_m_s;
+            if (missed_bounce_m_s <= options_.restitution_threshold_m_s) continue;
+            if (restitution >= options_.sequential_bounce_restitution) {
+              chained = true;
+            } else {
+              next_bounces_.push_back({pair, n, missed_bounce_m_s});
+            }
           }
         }
         impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());
@@ -583,6 +590,8 @@ StepReport World::step(double dt_s) {
       ++it;
     }
   }
+  pending_bounces_ = std::move(next_bounces_);
+  next_bounces_.clear();
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
   SolvedIslands islands_at_start;

@@ -120,6 +120,12 @@ std::vector<collision::ManifoldPoint> World::mesh_pair_features(int i, int j) co
   return features;
 }
 
+namespace {
+// A held-back bounce acts on the pair's contacts whose normals are within about 25 degrees of
+// the meeting's (the pair turns a little over the step it waited).
+constexpr double kSameBounceNormal = 0.9;
+}  // namespace
+
 void World::append_contacts(int i, int j, const std::vector<collision::ManifoldPoint>& features,
                             std::vector<Contact>& contacts) const {
   const double tolerance = options_.contact_tolerance_m;
@@ -133,6 +139,9 @@ void World::append_contacts(int i, int j, const std::vector<collision::ManifoldP
     const Eigen::Vector3d point_W = row_point(feature);
     for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
       contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
+    for (const PendingBounce& bounce : pending_bounces_)
+      if (bounce.bodies == std::make_pair(i, j) && bounce.normal_W.dot(feature.normal_W) > kSameBounceNormal)
+        contact.min_normal_velocity_m_s = std::max(contact.min_normal_velocity_m_s, bounce.speed_m_s);
     double nearest_m = tolerance;
     for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
       if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {
