@@ -20,38 +20,46 @@ constexpr double kSmallestStep = 0.02;
 // A distance bound that proves two pieces apart whatever the rounding of its computation.
 constexpr double kApart_m = 1e-12;
 
-// A bound on how fast the two pieces' points can close in on each other from t to the end
+// Bounds on how fast the two pieces' points can close in on each other from t to the end
 // (metres per unit of t): the relative velocity of their centres at t, what it can change by
 // until the end (a centre on a screw keeps its speed and turns at the screw's rate), and the
-// turn of each piece's farthest point about its centre. Bodies moving together (a pile
-// shoved along) close slowly whatever their speed.
+// turn of each piece's farthest point about its centre. `along`: the bound on the closing
+// along that fixed unit axis (A towards B) alone, which a pair sliding across its gap hardly
+// has; without it, the bound on any closing. Bodies moving together (a pile shoved along)
+// close slowly whatever their speed.
 double closing_speed_bound(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b,
-                           const ScrewMotion& motion_B, double t) {
+                           const ScrewMotion& motion_B, double t, const Eigen::Vector3d* along = nullptr) {
   const Eigen::Vector3d v_a = motion_A.velocity_of_point(motion_A.pose_at(t) * a.centroid_m());
   const Eigen::Vector3d v_b = motion_B.velocity_of_point(motion_B.pose_at(t) * b.centroid_m());
   const double turn_of_velocity = motion_A.angle_rad() * v_a.norm() + motion_B.angle_rad() * v_b.norm();
   const double spin = motion_A.angle_rad() * a.radius_m() + motion_B.angle_rad() * b.radius_m();
-  return ((v_b - v_a).norm() + turn_of_velocity * (1 - t) + spin) * (1 + 1e-12) + 1e-300;
+  const double centres = along ? along->dot(v_a - v_b) : (v_b - v_a).norm();
+  return (centres + turn_of_velocity * (1 - t) + spin) * (1 + 1e-12) + 1e-300;
 }
 
 // The motion from t to 1 of a screw: the same path, its parameter stretched.
 ScrewMotion rest_of(const ScrewMotion& motion, double t) { return ScrewMotion(motion.pose_at(t), motion.end()); }
 
-// Advances one piece pair from t = 0 while a step of at least kSmallestStep is proven
-// safe; returns how far the pair is proven apart (1: the whole motion) and whether it is
-// proven apart (not just not touching) there.
+// Advances one piece pair from t = 0 while the gap is at least what kSmallestStep of the
+// undirected bound closes; returns how far the pair is proven apart (1: the whole motion)
+// and whether it is proven apart (not just not touching) there. Each step is bounded along
+// the axis GJK proved the gap on: the supports' separation along a fixed axis is a lower
+// bound on the distance, and it shrinks no faster than the points close along that axis.
 double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b, const ScrewMotion& motion_B,
                bool* apart_there) {
   double t = 0;
   *apart_there = false;
   for (int step = 0; step < kMaxSteps; ++step) {
     const double speed = closing_speed_bound(a, motion_A, b, motion_B, t);
-    const double reach = speed * (1 - t);
-    const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), reach);
+    const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), speed * (1 - t));
     *apart_there = d.lower_m > kApart_m;
-    if (d.lower_m > reach) return 1.0;
+    if (!*apart_there) return t;
+    const double along = std::min(speed, closing_speed_bound(a, motion_A, b, motion_B, t, &d.axis_W));
+    if (along <= 0 || d.lower_m > along * (1 - t)) return 1.0;
+    // Stalled by the undirected bound: advancing a sliding pair further would hand the
+    // sweep a start its surfaces nearly touch at, where its search is slowest.
     if (!(d.lower_m > kSmallestStep * speed)) return t;
-    t += d.lower_m / speed;
+    t += d.lower_m / along;
   }
   return t;
 }

@@ -133,7 +133,10 @@ ConvexDistance convex_distance(const ConvexPiece& A, const geometry::Pose& X_WA,
     if (length == 0) break;  // the origin is a point of the difference: touching
     const Vector3d u = v / length;
     const Vector3d w = support(u);
-    out.lower_m = std::max(out.lower_m, u.dot(w));
+    if (const double gap = u.dot(w); gap > out.lower_m) {
+      out.lower_m = gap;
+      out.axis_W = X_WA.linear() * u;
+    }
     if (out.lower_m > enough_m || length - out.lower_m <= tolerance_m) break;
     s.p[s.size++] = w;
     Vector3d next;

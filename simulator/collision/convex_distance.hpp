@@ -14,6 +14,9 @@ namespace arphys::collision {
 struct ConvexDistance {
   double lower_m = 0;   // a proven lower bound on the distance (<= 0: touching or overlapping)
   double upper_m = 0;   // the distance of the closest points found so far
+  // Unit direction (world frame, from A towards B) along which the pieces' supports are
+  // lower_m apart: a separating axis while lower_m > 0.
+  Eigen::Vector3d axis_W = Eigen::Vector3d::UnitZ();
   int iterations = 0;
 };
 
