@@ -206,8 +206,18 @@ TEST(WorldRobustness, IslandsTooLargeForTheExactSolverAreSolvedIterativelyAndCou
   EXPECT_NEAR(world.bodies()[3].X_WB.translation().z(), 0.5 + 2e-6, 1e-5);
 }
 
-// A tracked box comes down onto a dynamic box lying on a static floor: the box is
-// squeezed. The solve is reported infeasible and the box is neither launched nor NaN.
+// A 1 kg ball of 5 cm radius on the x axis moving along it (the chain tests).
+RigidBody ball_on_x(const std::string& id, double x_m, double v_m_s, double restitution) {
+  RigidBody b;
+  b.id = id;
+  b.shape = collision::Shape::sphere(0.05);
+  b.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
+  b.X_WB = geometry::translation_pose({x_m, 0, 0});
+  b.v_WBcm_m_s = {v_m_s, 0, 0};
+  b.restitution = restitution;
+  return b;
+}
+
 // Bodies that cannot meet within a step are stepped in separate groups (an impact in one
 // does not cut the others' steps). A group whose re-solved motion reaches into another's
 // is merged with it and both are stepped again: here A hits B, B is sent into C, which
@@ -217,16 +227,7 @@ TEST(WorldRobustness, AnImpactThatSendsABodyIntoAnotherGroupMergesTheGroups) {
   WorldOptions options;
   options.gravity_m_s2.setZero();
   World world(options);
-  auto ball = [](const std::string& id, double x_m, double v_m_s) {
-    RigidBody b;
-    b.id = id;
-    b.shape = collision::Shape::sphere(0.05);
-    b.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
-    b.X_WB = geometry::translation_pose({x_m, 0, 0});
-    b.v_WBcm_m_s = {v_m_s, 0, 0};
-    b.restitution = 1.0;
-    return b;
-  };
+  const auto ball = [](const std::string& id, double x_m, double v_m_s) { return ball_on_x(id, x_m, v_m_s, 1.0); };
   const int a = world.add_body(ball("a", 0.0, 10.0));
   const int b = world.add_body(ball("b", 0.12, 0.0));   // 2 cm ahead of a
   const int c = world.add_body(ball("c", 0.25, 0.0));   // 3 cm beyond b: out of a's and b's first sweeps
@@ -250,16 +251,7 @@ TEST(WorldRobustness, ABounceAChainBroughtAboutIsHeldBackOneStepNotCut) {
   WorldOptions options;
   options.gravity_m_s2.setZero();
   World world(options);
-  auto ball = [](const std::string& id, double x_m, double v_m_s) {
-    RigidBody b;
-    b.id = id;
-    b.shape = collision::Shape::sphere(0.05);
-    b.mass = geometry::with_mass(geometry::sphere_mass_properties(0.05, 1000), 1.0);
-    b.X_WB = geometry::translation_pose({x_m, 0, 0});
-    b.v_WBcm_m_s = {v_m_s, 0, 0};
-    b.restitution = 0.4;
-    return b;
-  };
+  const auto ball = [](const std::string& id, double x_m, double v_m_s) { return ball_on_x(id, x_m, v_m_s, 0.4); };
   const int a = world.add_body(ball("a", 0.0, 10.0));
   const int b = world.add_body(ball("b", 0.12, 0.0));
   const int c = world.add_body(ball("c", 0.25, 0.0));
@@ -524,6 +516,8 @@ TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
   }
 }
 
+// A tracked box comes down onto a dynamic box lying on a static floor: the box is
+// squeezed. The solve is reported infeasible and the box is neither launched nor NaN.
 TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
   World world;
   world.add_body(plane_body());
