@@ -8,7 +8,7 @@ bench_setup() {
   mkdir -p "$out"
   bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x 2>/dev/null | head -n 1)"
   if [[ -z "$bench" ]]; then
-    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARPHYS_BUILD_PEERS=ON >/dev/null
     cmake --build "$build" --target "$2" -j"$(nproc)"
     bench="$(find "$build/tools" -maxdepth 2 -name "$2" -type f -perm -u+x | head -n 1)"
   fi

@@ -22,7 +22,7 @@ t0=$(date +%s)
 step() { echo "== [$(( $(date +%s) - t0 )) s] $*" >&2; }
 
 step "build (Release, $build)"
-cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARPHYS_BUILD_PEERS=ON >/dev/null
 cmake --build "$build" -j"$(nproc)" --target arphys-ccd-bench arphys-dyn-bench arphys-track-bench arphys-render-bench \
   arphys-eval-studies arphys-launch arphys-synthetic-camera tracker arphys-simulator renderer >/dev/null
 rm -rf "$out"

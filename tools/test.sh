@@ -10,11 +10,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ "${1:-}" == "--quick" ]]; then
   shift
-  tools/build.sh
+  tools/build.sh -DARPHYS_BUILD_PEERS=ON
   cd build && exec ctest -L unit --output-on-failure -j"$(nproc)" "$@"
 fi
 tools/install_deps.sh
-tools/build.sh
+tools/build.sh -DARPHYS_BUILD_PEERS=ON   # with the peers: their oracle tests and benchmark smoke runs
 (cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@")
 
 if [[ -n "${ARPHYS_SKIP_SANITIZERS:-}" ]]; then exit 0; fi
@@ -28,7 +28,7 @@ fi
 # cheaper to compile than full debug info.
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-  -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DCMAKE_UNITY_BUILD=OFF >/dev/null
+  -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DARPHYS_BUILD_PEERS=ON -DCMAKE_UNITY_BUILD=OFF >/dev/null
 unit_tests=(geometry_test config_test msg_test msg_image_test collision_test fcl_oracle_test convex_ccd_test dynamics_test sim_process_test tracking_test
             rendering_test)
 fuzzers=(fuzz_messages write_message_seeds fuzz_configs fuzz_mesh fuzz_ccd_query)

@@ -16,6 +16,12 @@
 
 namespace {
 
+#ifdef ARPHYS_PEERS_BUILT
+constexpr bool kPeersBuilt = true;
+#else
+constexpr bool kPeersBuilt = false;  // (tools/test.sh builds them)
+#endif
+
 using arphys::testing::CsvRow;
 using arphys::testing::number;
 using arphys::testing::read_csv;
@@ -46,6 +52,7 @@ const std::set<std::string> kDynamicsEngines{"arphys",      "arphys-10um",   "ar
 // second each: the shared scenes reach each peer (they sink into their contacts, which
 // ours do not), and our figures are those the issue asks for.
 TEST(BenchmarksSmoke, DynamicsBenchmarkRunsEveryEngineOnTheSharedScenes) {
+  if (!kPeersBuilt) GTEST_SKIP() << "the peer benchmarks are built with -DARPHYS_BUILD_PEERS=ON";
   const std::string out = fresh_dir("dyn");
   const auto run = arphys::testing::run_command(
       std::string(ARPHYS_BINARY_DIR) +
@@ -93,6 +100,7 @@ TEST(BenchmarksSmoke, DynamicsBenchmarkRunsEveryEngineOnTheSharedScenes) {
 // Twenty random screw motions of the 5k bunny against itself: ours finds every hit the
 // dense-sampled truth does, on time; sampling finds them late.
 TEST(BenchmarksSmoke, CcdBenchmarkJudgesEveryMethodAgainstTheSampledTruth) {
+  if (!kPeersBuilt) GTEST_SKIP() << "the peer benchmarks are built with -DARPHYS_BUILD_PEERS=ON";
   const std::string out = fresh_dir("ccd");
   const auto run = arphys::testing::run_command(std::string(ARPHYS_BINARY_DIR) +
                                                 "/tools/ccd_bench/arphys-ccd-bench --queries 20 --no-fcl-rss --csv " +
@@ -121,6 +129,7 @@ TEST(BenchmarksSmoke, CcdBenchmarkJudgesEveryMethodAgainstTheSampledTruth) {
 // peer run, AprilTag at full resolution finds every frame's board within half a millimetre, and
 // the edge refinement makes each detector's single tag more accurate than without it.
 TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
+  if (!kPeersBuilt) GTEST_SKIP() << "the peer benchmarks are built with -DARPHYS_BUILD_PEERS=ON";
   const std::string out = fresh_dir("track");
   const auto run = arphys::testing::run_command(std::string(ARPHYS_BINARY_DIR) +
                                                 "/tools/track_bench/arphys-track-bench --trials 1 --frames 30 "

@@ -11,7 +11,7 @@ raw="$root/docs/results/raw"
 mkdir -p "$out" "$raw"
 bench="$build/tools/ccd_bench/arphys-ccd-bench"
 if [[ ! -x "$bench" ]]; then
-  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DARPHYS_BUILD_PEERS=ON >/dev/null
   cmake --build "$build" --target arphys-ccd-bench -j"$(nproc)"
 fi
 command -v gnuplot >/dev/null || { echo "gnuplot missing: run tools/install_deps.sh" >&2; exit 1; }
