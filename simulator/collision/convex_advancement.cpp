@@ -20,6 +20,15 @@ constexpr double kSmallestStep = 0.02;
 // A distance bound that proves two pieces apart whatever the rounding of its computation.
 constexpr double kApart_m = 1e-12;
 
+// A piece's centre and its velocity at t along its body's screw motion.
+struct PieceMotion {
+  Eigen::Vector3d centre_W, v_W;
+};
+PieceMotion piece_motion_at(const ConvexPiece& piece, const ScrewMotion& motion, double t) {
+  const Eigen::Vector3d centre_W = motion.pose_at(t) * piece.centroid_m();
+  return {centre_W, motion.velocity_of_point(centre_W)};
+}
+
 // Bounds on how fast the two pieces' points can close in on each other from t to the end
 // (metres per unit of t): the relative velocity of their centres at t, what it can change by
 // until the end (a centre on a screw keeps its speed and turns at the screw's rate), and the
@@ -27,10 +36,11 @@ constexpr double kApart_m = 1e-12;
 // along that fixed unit axis (A towards B) alone, which a pair sliding across its gap hardly
 // has; without it, the bound on any closing. Bodies moving together (a pile shoved along)
 // close slowly whatever their speed.
-double closing_speed_bound(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b,
-                           const ScrewMotion& motion_B, double t, const Eigen::Vector3d* along = nullptr) {
-  const Eigen::Vector3d v_a = motion_A.velocity_of_point(motion_A.pose_at(t) * a.centroid_m());
-  const Eigen::Vector3d v_b = motion_B.velocity_of_point(motion_B.pose_at(t) * b.centroid_m());
+double closing_speed_bound(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMotion& at_A,
+                           const ConvexPiece& b, const ScrewMotion& motion_B, const PieceMotion& at_B, double t,
+                           const Eigen::Vector3d* along = nullptr) {
+  const Eigen::Vector3d& v_a = at_A.v_W;
+  const Eigen::Vector3d& v_b = at_B.v_W;
   const double turn_of_velocity = motion_A.angle_rad() * v_a.norm() + motion_B.angle_rad() * v_b.norm();
   const double spin = motion_A.angle_rad() * a.radius_m() + motion_B.angle_rad() * b.radius_m();
   const double centres = along ? along->dot(v_a - v_b) : (v_b - v_a).norm();
@@ -45,16 +55,19 @@ ScrewMotion rest_of(const ScrewMotion& motion, double t) { return ScrewMotion(mo
 // and whether it is proven apart (not just not touching) there. Each step is bounded along
 // the axis GJK proved the gap on: the supports' separation along a fixed axis is a lower
 // bound on the distance, and it shrinks no faster than the points close along that axis.
-double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const ConvexPiece& b, const ScrewMotion& motion_B,
-               bool* apart_there) {
+// (start_A, start_B: the pieces' motions at t = 0, already known to the caller.)
+double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMotion& start_A, const ConvexPiece& b,
+               const ScrewMotion& motion_B, const PieceMotion& start_B, bool* apart_there) {
   double t = 0;
   *apart_there = false;
   for (int step = 0; step < kMaxSteps; ++step) {
-    const double speed = closing_speed_bound(a, motion_A, b, motion_B, t);
+    const PieceMotion at_A = step == 0 ? start_A : piece_motion_at(a, motion_A, t);
+    const PieceMotion at_B = step == 0 ? start_B : piece_motion_at(b, motion_B, t);
+    const double speed = closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t);
     const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), speed * (1 - t));
     *apart_there = d.lower_m > kApart_m;
     if (!*apart_there) return t;
-    const double along = std::min(speed, closing_speed_bound(a, motion_A, b, motion_B, t, &d.axis_W));
+    const double along = std::min(speed, closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t, &d.axis_W));
     if (along <= 0 || d.lower_m > along * (1 - t)) return 1.0;
     // Stalled by the undirected bound: advancing a sliding pair further would hand the
     // sweep a start its surfaces nearly touch at, where its search is slowest.
@@ -78,17 +91,27 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
     int a, b;
     bool apart;
   };
+  // Each piece's motion at the start and its centre there, once per piece, not per pair.
+  const auto starts = [](const ConvexSet& set, const ScrewMotion& motion) {
+    std::vector<std::pair<PieceMotion, Eigen::Vector3d>> out;
+    out.reserve(set.pieces.size());
+    for (const ConvexPiece& piece : set.pieces)
+      out.emplace_back(piece_motion_at(piece, motion, 0), motion.start() * piece.centroid_m());
+    return out;
+  };
+  const auto starts_A = starts(A, motion_A), starts_B = starts(B, motion_B);
   std::vector<Stall> stalls;
   for (int a = 0; a < static_cast<int>(A.pieces.size()); ++a)
     for (int b = 0; b < static_cast<int>(B.pieces.size()); ++b) {
       const ConvexPiece& piece_a = A.pieces[a];
       const ConvexPiece& piece_b = B.pieces[b];
-      const double speed = closing_speed_bound(piece_a, motion_A, piece_b, motion_B, 0);
-      const double ball_gap = (motion_B.start() * piece_b.centroid_m() - motion_A.start() * piece_a.centroid_m()).norm() -
-                              piece_a.radius_m() - piece_b.radius_m();
+      const auto& [start_a, centre_a] = starts_A[a];
+      const auto& [start_b, centre_b] = starts_B[b];
+      const double speed = closing_speed_bound(piece_a, motion_A, start_a, piece_b, motion_B, start_b, 0);
+      const double ball_gap = (centre_b - centre_a).norm() - piece_a.radius_m() - piece_b.radius_m();
       if (ball_gap > speed + kApart_m) continue;  // their balls cannot meet
       bool apart = false;
-      const double t = advance(piece_a, motion_A, piece_b, motion_B, &apart);
+      const double t = advance(piece_a, motion_A, start_a, piece_b, motion_B, start_b, &apart);
       if (t < 1) stalls.push_back({t, a, b, apart});
     }
   std::sort(stalls.begin(), stalls.end(), [](const Stall& x, const Stall& y) {
