@@ -16,6 +16,7 @@ build=(
   libtbb-dev                                         # the simulator's worker threads (--threads)
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
+       clang-format                                                             # tools/check_format.py
        libccd-dev)                                                              # the convex CCD's GJK oracle
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3
             libvisp-detection-dev)                                                     # the tracker benchmark's peer (ViSP 3.5)
