@@ -42,7 +42,7 @@ def check(root, base):
     if changes:
         print(changes)
         print(f"check_format: lines changed since {base[:12]} do not follow .clang-format "
-              f"(fix: git clang-format {base[:12]})", file=sys.stderr)
+              f"(fix: git add the change, then git clang-format {base[:12]})", file=sys.stderr)
         return 1
     print(f"check_format: lines changed since {base[:12]} follow .clang-format")
     return 0

@@ -592,6 +592,8 @@ StepReport World::step(double dt_s) {
   }
   pending_bounces_ = std::move(next_bounces_);
   next_bounces_.clear();
+  std::stable_sort(pending_bounces_.begin(), pending_bounces_.end(),
+                   [](const PendingBounce& x, const PendingBounce& y) { return x.bodies < y.bodies; });
   const std::vector<Contact> resting = gather_contacts(everyone);
   std::vector<Contact> solved;
   SolvedIslands islands_at_start;
@@ -656,7 +658,14 @@ StepReport World::step(double dt_s) {
       for (; first_member < members.size() && members[first_member].first == g; ++first_member)
         bodies.push_back(members[first_member].second);
       if (stepped[g]) {
-        // Stepped before, merged since: start again from the step's start.
+        // Stepped before, merged since: start again from the step's start (and forget the
+        // bounces that pass held back: this one finds its own).
+        const auto in_group = [&](int i) { return bodies_[i].is_dynamic() && root(i) == g; };
+        next_bounces_.erase(std::remove_if(next_bounces_.begin(), next_bounces_.end(),
+                                           [&](const PendingBounce& p) {
+                                             return in_group(p.bodies.first) || in_group(p.bodies.second);
+                                           }),
+                            next_bounces_.end());
         for (int i : bodies) {
           bodies_[i].X_WB = start[i].X_WB;
           bodies_[i].v_WBcm_m_s = start[i].v;

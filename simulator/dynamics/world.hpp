@@ -427,7 +427,7 @@ class World {
   std::vector<PreviousForce> warm_forces_;
   // Bounces a step held back (WorldOptions::sequential_bounce_restitution): the pair's
   // contacts along that normal (A to B) separate at least that fast in the next step.
-  // pending_bounces_ is read by this step's contacts, next_bounces_ written for the next.
+  // pending_bounces_ (sorted by pair) is read by this step's contacts, next_bounces_ written for the next.
   struct PendingBounce {
     std::pair<int, int> bodies;
     Eigen::Vector3d normal_W;

@@ -134,14 +134,18 @@ void World::append_contacts(int i, int j, const std::vector<collision::ManifoldP
                                        [](const PushedPoint& p, const std::pair<int, int>& k) { return p.bodies < k; });
   const auto warm = std::lower_bound(warm_forces_.begin(), warm_forces_.end(), key,
                                      [](const PreviousForce& p, const std::pair<int, int>& k) { return p.bodies < k; });
+  const auto bounces =
+      std::lower_bound(pending_bounces_.begin(), pending_bounces_.end(), key,
+                       [](const PendingBounce& p, const std::pair<int, int>& k) { return p.bodies < k; });
   for (const auto& feature : features) {
     Contact contact{i, j, feature, 0.0};
     const Eigen::Vector3d point_W = row_point(feature);
     for (auto it = pushed; it != pushed_before_.end() && it->bodies == key && !contact.pushed_before; ++it)
       contact.pushed_before = (it->point_W - point_W).norm() <= tolerance;
-    for (const PendingBounce& bounce : pending_bounces_)
-      if (bounce.bodies == std::make_pair(i, j) && bounce.normal_W.dot(feature.normal_W) > kSameBounceNormal)
-        contact.min_normal_velocity_m_s = std::max(contact.min_normal_velocity_m_s, bounce.speed_m_s);
+    // (Held back for the pair as (i, j): its normal points from i to j, as the feature's does.)
+    for (auto it = bounces; it != pending_bounces_.end() && it->bodies == key; ++it)
+      if (key == std::make_pair(i, j) && it->normal_W.dot(feature.normal_W) > kSameBounceNormal)
+        contact.min_normal_velocity_m_s = std::max(contact.min_normal_velocity_m_s, it->speed_m_s);
     double nearest_m = tolerance;
     for (auto it = warm; it != warm_forces_.end() && it->bodies == key; ++it)
       if (const double d = (it->point_W - point_W).norm(); d <= nearest_m) {

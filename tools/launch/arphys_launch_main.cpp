@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   if (o.out_dir.empty()) std::filesystem::remove(state_file);  // a temporary one
   if (!died.empty()) {
     std::fprintf(stderr, "arphys-launch: %s died unexpectedly%s\n", died.c_str(),
-                 o.out_dir.empty() ? "" : (" (see " + o.log_of(died) + ")").c_str());
+                 o.out_dir.empty() ? "" : (" (see " + children.log_of(died) + ")").c_str());
     return 1;
   }
   return 0;

@@ -29,8 +29,6 @@ struct LaunchOptions {
 
   // Whether the process `name` is started here (--only).
   bool wanted(const std::string& name) const;
-  // Where a process's log goes (empty without --out).
-  std::string log_of(const std::string& name) const { return out_dir.empty() ? "" : out_dir + "/" + name + ".log"; }
 };
 
 // Declares every option on `app`, with its default taken from `options`.

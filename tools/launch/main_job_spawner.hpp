@@ -17,7 +17,6 @@ class MainJobSpawner {
   MainJobSpawner(const config::SceneConfig& scene, double every_s, bool enabled);
   // Publishes a spawn command on `channel` when one is due at elapsed_s.
   void maybe_spawn(msg::Bus& bus, const std::string& channel, double elapsed_s);
-  int64_t spawned() const { return seq_; }
 
  private:
   std::string model_;

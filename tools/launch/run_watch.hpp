@@ -46,8 +46,6 @@ class RunWatch {
   // One line: each process's rate, stage time, given-up steps, drops and rejections.
   std::string status_line(double elapsed_s) const;
   int64_t frame_messages() const { return latency_.frame_messages(); }
-  // The simulation time the simulator's last heartbeat says it gave up (--max-lag-s).
-  std::optional<double> simulator_dropped_time_s() const;
   // latency.json: stages, frames, memory, registration, the simulator's drop, and the run's
   // settings; restarts by process; drain_ended_by "settled" or "drain_limit" (how the run
   // ended after the camera's last frame; else null) after drain_s.
@@ -59,6 +57,9 @@ class RunWatch {
   void write_samples_csv(const std::string& path) const { latency_.write_samples_csv(path); }
 
  private:
+  // The simulation time the simulator's last heartbeat says it gave up (--max-lag-s).
+  std::optional<double> simulator_dropped_time_s() const;
+
   tools::LatencyReport latency_;
   std::unique_ptr<tools::RegistrationReport> registration_;
   std::map<std::string, arphys::process_status_t> heartbeats_;
