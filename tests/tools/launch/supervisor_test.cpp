@@ -29,8 +29,11 @@ TEST(Supervisor, ExpectedEndIsNotADeathAndADeathIsNamed) {
   ASSERT_TRUE(s.start("simulator", {"sh", "-c", "exit 3"}));
   ASSERT_TRUE(s.start("renderer", {"sleep", "30"}));
   const auto expected = [](const Child& c) { return c.name == "camera" && WIFEXITED(c.status) && WEXITSTATUS(c.status) == 0; };
-  std::string died;
-  poll_until([&] { return !(died = s.poll(false, expected)).empty() && s.find("camera")->exited; });
+  std::string died;  // (a death is reported once, by the poll that reaps it)
+  poll_until([&] {
+    if (const std::string name = s.poll(false, expected); died.empty()) died = name;
+    return !died.empty() && s.find("camera")->exited;
+  });
   EXPECT_EQ(died, "simulator");
   EXPECT_TRUE(s.find("camera")->exited);
   EXPECT_FALSE(s.find("renderer")->exited);
