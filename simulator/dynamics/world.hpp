@@ -42,6 +42,7 @@
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
+#include "simulator/dynamics/disjoint_sets.hpp"
 #include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
 
@@ -252,6 +253,33 @@ class World {
   // pose of each body that goes on as before back to the one the cut motion had.
   ImpactCache carry_over_cut(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
                              std::vector<geometry::Pose>& next, Cut& cut) const;
+  // The step's first pass over every body at once: contacts, one solve, the motions it
+  // gives, their swept boxes and CCD, and the groups those form.
+  struct FirstPass {
+    std::vector<Contact> resting, solved;
+    SolvedIslands islands;
+    std::vector<BodyVelocity> u;             // by body
+    std::vector<geometry::Pose> next;        // by body
+    std::vector<Eigen::AlignedBox3d> swept;  // by body, over its motion to next
+    ImpactCache ccd;
+    DisjointSets groups{0};
+    std::set<int> eventful;  // roots of the groups whose CCD met something or ended too deep
+  };
+  FirstPass first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report);
+  // Clears the memos of the last step and takes up the bounces it held back.
+  void begin_step_memos();
+  struct GroupStepping;  // (world.cpp)
+  // Steps the pending groups (roots, sorted) that meet something on their own and moves the
+  // others along the first pass's motion; a group stepped before starts again.
+  void step_pending_groups(double dt_s, FirstPass& pass, const std::vector<int>& pending,
+                           const std::vector<int>& dynamic, const std::vector<int>& fixed, GroupStepping& g,
+                           StepReport& report);
+  // Joins each stepped group with the groups its motion reached into; returns their roots
+  // (to step again from the step's start), none when nothing reached.
+  std::vector<int> reaching_groups(FirstPass& pass, const std::vector<int>& dynamic, GroupStepping& g);
+  // The step's contacts (each group's last solve), and the hints the next step starts from.
+  void keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic, const GroupStepping& g, double dt_s,
+                          StepReport& report);
   // Steps one group through dt_s: CCD, re-solves with the impacts, cuts at times of
   // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
@@ -296,6 +324,44 @@ class World {
                                   const std::vector<Contact>& resting, const ImpactMap& impacts,
                                   std::vector<Contact>& solved, StepReport& report, bool* infeasible,
                                   SolvedIslands* memo) const;
+  // What every solve of one part of a group's step shares (a part: from the step's start or
+  // a cut to the step's end or the next cut): the time left, the time its force acts over,
+  // the resting contacts at its start poses and the islands solved there.
+  struct PartSolve {
+    double elapsed = 0, h = 0, force_h = 0;
+    const std::vector<Contact>& resting;
+    std::vector<std::pair<int, int>> resting_pairs;
+    SolvedIslands& islands;
+    std::optional<SolveSetup> setup;  // built when a solve needs it
+  };
+  // A part's motion: velocities and end poses by participant, and the fraction of it taken
+  // (1: to the end of the step; less: cut at a time of impact).
+  struct PartMotion {
+    std::vector<BodyVelocity> u;
+    std::vector<geometry::Pose> next;
+    double tau = 1;
+    bool squeezed = false;  // the last solve could not keep a body out of fixed ones
+  };
+  // Rounds of CCD and re-solve of a part's motion, each meeting a constraint of the next
+  // solve, until nothing meets inside it (tau 1) or it must be cut (tau < 1). `contacts`:
+  // the last solve's; cut_at_start: the last cut was at the start of its motion.
+  void resolve_rounds(const std::vector<int>& participants, PartSolve& part, ImpactCache& cache, bool cut_at_start,
+                      PartMotion& motion, std::vector<Contact>& contacts, StepReport& report);
+  // Where the last round stops a motion that still meets or digs in (tau: the earliest
+  // meeting; deepening: a touching pair ends too deep).
+  double last_round_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                             const ImpactCache& cache, const ImpactMap& meeting, double tau, bool deepening,
+                             bool cut_at_start) const;
+  // Adds the meetings' points to `impacts`, each with the normal velocity that lifts it out
+  // of where the motion leaves it; a bounce the solve brought about below
+  // sequential_bounce_restitution is held back to the next step (next_bounces_). True when
+  // one is to be met in turn (the part is cut at it).
+  bool add_impact_points(const std::vector<int>& participants, const PartMotion& motion, const PartSolve& part,
+                         ImpactMap& meeting, ImpactMap& impacts);
+  // Moves the group's dynamic bodies along the part's motion to its fraction tau (a body
+  // a numerical failure made non-finite stays where it was, at rest).
+  void commit_part(const std::vector<int>& participants, const PartMotion& motion, GroupOutcome& outcome,
+                   StepReport& report);
   // Where the participants would be after h from now (elapsed into the step) with
   // velocities u (by participant).
   std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,

@@ -1,20 +1,21 @@
 #pragma once
-// What the three files of World share. World is one class in three files, one per stage of
-// a step: world.cpp holds the bodies and the step itself (groups, cuts, sleep);
-// world_contacts.cpp finds the contacts at the current poses and solves for the
-// constrained velocities; world_impacts.cpp sweeps the motions those velocities give
-// (CCD, end-of-motion checks, lifts of too-deep points, where to cut). Not part of the
-// library's interface.
+// What World's files share. World is one class in five files, one per stage of a step:
+// world.cpp holds the bodies, the step's first pass and its groups; world_contacts.cpp finds
+// the contacts at the current poses and solves for the constrained velocities;
+// world_group.cpp steps a group part by part (rounds of re-solves, cuts);
+// world_impacts.cpp sweeps the motions the solves give (CCD, end-of-motion checks, lifts of
+// too-deep points, where to cut); world_sleep.cpp puts bodies to sleep and wakes them. Not
+// part of the library's interface.
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include <Eigen/Geometry>
-
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/world.hpp"
 
 namespace arphys::dynamics::world_internal {
 
@@ -55,6 +56,16 @@ inline double combined_friction(const RigidBody& a, const RigidBody& b) {
   if (a.friction) return *a.friction;
   if (b.friction) return *b.friction;
   return 0;
+}
+
+// The body pairs of the contacts, sorted, once each.
+inline std::vector<std::pair<int, int>> pairs_of(const std::vector<Contact>& contacts) {
+  std::vector<std::pair<int, int>> pairs;
+  pairs.reserve(contacts.size());
+  for (const Contact& c : contacts) pairs.emplace_back(std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b));
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 }  // namespace arphys::dynamics::world_internal
