@@ -146,6 +146,7 @@ struct SparseDelassus {
 // digits: then the dense factor follows it again).
 // start_from: rows the active set starts from; with_violated: and every row the
 // unconstrained motion violates; sparse_form: the island's, shared by its solves.
+// (One active-set loop over one factor: kept whole, longer than the usual 100 lines.)
 DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q, bool with_violated,
                               const std::vector<char>& start_from, SparseDelassus& sparse_form) {
   using SparseMatrix = Eigen::SparseMatrix<double>;
@@ -367,6 +368,7 @@ void warm_friction(const ContactRow& row, const Eigen::Vector3d& start_W, const 
 
 // Projected Gauss-Seidel over an island's rows, warm-started from `lambda`; friction
 // rows (two per frictional contact) stay in Coulomb's disc, mu times their normal impulse.
+// (One sweep loop over the island's packed velocities: kept whole, a little over 100 lines.)
 // Friction impulses along the two tangents of each row, warm-started and returned.
 struct FrictionImpulses {
   std::vector<double> f1, f2;
@@ -517,6 +519,206 @@ bool extends(const SolvedIslands::Island& later, const SolvedIslands::Island& ea
   return true;
 }
 
+// One island of a solve: its rows (indices into the rows), and, when its answer is
+// remembered or it has friction, its bodies in order of first appearance in its rows and
+// the velocities they start from (the memo's key, and where the friction rounds restart).
+struct IslandInput {
+  const std::vector<int>& island;
+  std::vector<int> members;
+  std::vector<BodyVelocity> before;
+  bool frictional = false;
+};
+
+// An island's answer beside the velocities it leaves: its normal and friction impulses.
+struct IslandAnswer {
+  Eigen::VectorXd lambda;
+  FrictionImpulses friction;
+  double residual_m_s = 0;
+  bool infeasible = false;
+  int iterations = 0;
+};
+
+// The rows' velocities now minus their bounds, by how much a squeeze relaxes them (see
+// relaxed_dual).
+void fill_q(const std::vector<JacobianRow>& J, const std::vector<ContactRow>& rows, const std::vector<int>& island,
+            const std::vector<BodyVelocity>& velocities, Relaxation relaxation, const std::vector<char>& contradictory,
+            Eigen::VectorXd& q) {
+  for (int i = 0; i < static_cast<int>(island.size()); ++i) {
+    const ContactRow& ri = rows[island[i]];
+    double slack = ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
+    if (relaxation == Relaxation::kEveryRow || (relaxation == Relaxation::kContradictoryRows && contradictory[i]))
+      slack = ri.known_normal_velocity_m_s - std::min(0.0, ri.min_normal_velocity_m_s);
+    else if (relaxation == Relaxation::kNonDynamicMotionToo)
+      slack = std::max(0.0, slack);
+    q[i] = apply(J[i], ri, velocities) + slack;
+  }
+}
+
+// Contradictory demands: a body squeezed (between a tracked box and the table, say). The
+// island's bounds are relaxed step by step until solvable, never launching anything:
+// 1. the rows the solve could meet only through its ridge (the contradiction) lose their
+//    push-apart demands (depenetration, restitution): n . v_rel >= min(0, bound), "do not
+//    approach"; the rest of the island keeps its own;
+// 2. so does every row (the contradiction reached further);
+// 3. non-dynamic bodies close in from two sides: what they press in cannot be undone this
+//    step. The dynamic bodies only keep from approaching anything (J u >= min(0, bound -
+//    known), which u = 0 meets: always feasible), so none falls through its other supports.
+// (Relaxed with the wrong sign, stricter than the original, a squeezed 100-bunny pile got
+// no impulses at all and fell through itself.)
+DualSolution relaxed_dual(const Eigen::MatrixXd& A, const std::vector<JacobianRow>& J,
+                          const std::vector<ContactRow>& rows, const IslandInput& in,
+                          const std::vector<BodyVelocity>& velocities, const std::vector<char>& start_from,
+                          SparseDelassus& sparse_form, DualSolution dual) {
+  const int n = static_cast<int>(in.island.size());
+  bool any_contradictory = false;
+  std::vector<char> contradictory(n, 0);
+  for (int k = 0; k < n; ++k) {
+    contradictory[k] = dual.lambda[k] * dual.ridge > 1e-7;  // m/s of its demand met by the ridge
+    any_contradictory |= contradictory[k] != 0;
+  }
+  Eigen::VectorXd q(n);
+  for (const Relaxation relaxation :
+       {Relaxation::kContradictoryRows, Relaxation::kEveryRow, Relaxation::kNonDynamicMotionToo}) {
+    if (relaxation == Relaxation::kContradictoryRows && !any_contradictory) continue;
+    fill_q(J, rows, in.island, velocities, relaxation, contradictory, q);
+    dual = solve_dual_exact(A, q, !in.frictional, start_from, sparse_form);
+    if (dual.converged) break;
+  }
+  if (!dual.converged) dual.lambda.setZero();  // numerically lost: give up on this island rather than launch it
+  return dual;
+}
+
+// The exact solver's island: without friction one exact solve. With it, staggered: exact
+// normals for the current friction impulses, then friction sweeps with those normals held,
+// three times, ending on an exact normal solve so the constraints hold exactly.
+IslandAnswer solve_island_exact(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
+                                const std::vector<ContactRow>& rows, const IslandInput& in,
+                                const ContactSolverOptions& options) {
+  const std::vector<int>& island = in.island;
+  const int n = static_cast<int>(island.size());
+  IslandAnswer answer;
+  answer.lambda = Eigen::VectorXd::Zero(n);
+  FrictionImpulses& friction = answer.friction;
+  std::vector<JacobianRow> J(n);
+  for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
+  const Eigen::MatrixXd A = delassus_matrix(J, rows, island, inertia);
+  SparseDelassus sparse_form;
+  std::vector<char> pushed_before(n);
+  for (int k = 0; k < n; ++k) pushed_before[k] = rows[island[k]].pushed_before;
+  const int rounds = in.frictional ? 3 : 1;
+  if (in.frictional) {
+    // The friction sweeps start from last step's friction (kept in the disc of mu times last
+    // step's normal impulse), as the iterative solver's do: from zero, 50 sweeps did not
+    // quite stop a box resting on an incline (mu 0.7, 30 degrees) each step.
+    friction.f1.assign(n, 0.0);
+    friction.f2.assign(n, 0.0);
+    for (int k = 0; k < n; ++k) {
+      const ContactRow& row = rows[island[k]];
+      if (row.friction <= 0) continue;
+      Eigen::Vector3d t1, t2;
+      tangents(row.normal_W, t1, t2);
+      warm_friction(row, row.warm_impulse_W_N_s, t1, t2, friction.f1[k], friction.f2[k]);
+    }
+  }
+  for (int round = 0; round < rounds; ++round) {
+    if (in.frictional) {
+      // (The island's own bodies only: a copy of every body's velocity per island was a
+      // tenth of a 1000-box pile's solve.)
+      if (round > 0)
+        for (std::size_t b = 0; b < in.members.size(); ++b) velocities[in.members[b]] = in.before[b];
+      // Apply the friction impulses found so far.
+      for (int k = 0; k < n; ++k) {
+        const ContactRow& row = rows[island[k]];
+        if (row.friction <= 0) continue;
+        Eigen::Vector3d t1, t2;
+        tangents(row.normal_W, t1, t2);
+        add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
+        add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
+      }
+    }
+    Eigen::VectorXd q(n);
+    fill_q(J, rows, island, velocities, Relaxation::kNone, {}, q);
+    // Frictional islands start from the rows that pushed (in the previous step, then in the
+    // previous round), not from every violated row (see solve_dual_exact).
+    std::vector<char> start_from = pushed_before;
+    if (round > 0)
+      for (int k = 0; k < n; ++k) start_from[k] = answer.lambda[k] > 0;
+    DualSolution dual = solve_dual_exact(A, q, !in.frictional, start_from, sparse_form);
+    if (!dual.converged) {
+      answer.infeasible = true;
+      dual = relaxed_dual(A, J, rows, in, velocities, start_from, sparse_form, std::move(dual));
+    }
+    answer.lambda = dual.lambda;
+    answer.residual_m_s = std::max(answer.residual_m_s, dual.residual);
+    answer.iterations += dual.iterations;
+    for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, answer.lambda[k], velocities);
+    if (round + 1 < rounds) {
+      const bool provisional = round + 2 < rounds;  // not the last round of sweeps
+      const int sweeps =
+          provisional ? std::min(options.iterations, options.provisional_friction_sweeps) : options.iterations;
+      answer.iterations += projected_gauss_seidel(inertia, velocities, rows, island, answer.lambda, sweeps,
+                                                  options.sweep_tolerance_m_s, true, friction);
+    }
+  }
+  return answer;
+}
+
+// The iterative solver's island. Warm start: the sweeps begin from last step's impulses,
+// applied, instead of from nothing (from zero, 50 sweeps left a stack of ten 1.5 mm/s off
+// its bounds every step, and it toppled). An island re-solved with an impact's rows added
+// (`earlier`: its solve without them at these poses) starts from that solve's impulses.
+IslandAnswer solve_island_iterative(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
+                                    const std::vector<ContactRow>& rows, const IslandInput& in,
+                                    const ContactSolverOptions& options, const SolvedIslands::Island* earlier) {
+  const std::vector<int>& island = in.island;
+  const int n = static_cast<int>(island.size());
+  IslandAnswer answer;
+  answer.lambda = Eigen::VectorXd::Zero(n);
+  FrictionImpulses& friction = answer.friction;
+  friction.f1.assign(n, 0.0);
+  friction.f2.assign(n, 0.0);
+  for (int k = 0; k < n; ++k) {
+    const ContactRow& row = rows[island[k]];
+    const Eigen::Vector3d& start_W = earlier && static_cast<std::size_t>(k) < earlier->impulses_W.size()
+                                         ? earlier->impulses_W[k]
+                                         : row.warm_impulse_W_N_s;
+    answer.lambda[k] = std::max(0.0, start_W.dot(row.normal_W));
+    add_impulse(jacobian(row, row.normal_W, inertia), row, inertia, answer.lambda[k], velocities);
+    if (row.friction <= 0) continue;
+    Eigen::Vector3d t1, t2;
+    tangents(row.normal_W, t1, t2);
+    warm_friction(row, start_W, t1, t2, friction.f1[k], friction.f2[k]);  // (lambda[k]: its normal part)
+    add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
+    add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
+  }
+  answer.iterations += projected_gauss_seidel(inertia, velocities, rows, island, answer.lambda, options.iterations,
+                                              options.sweep_tolerance_m_s, false, friction);
+  // How far the iterative answer is from the KKT conditions.
+  for (int k = 0; k < n; ++k) {
+    const ContactRow& row = rows[island[k]];
+    const JacobianRow J = jacobian(row, row.normal_W, inertia);
+    const double w = apply(J, row, velocities) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
+    answer.residual_m_s = std::max(answer.residual_m_s, std::max(-w, answer.lambda[k] > 0 ? std::abs(w) : 0.0));
+  }
+  return answer;
+}
+
+// The island as a memo key: its rows and bodies by key, and the velocities it starts from.
+SolvedIslands::Island island_key(const std::vector<ContactRow>& rows, const IslandInput& in,
+                                 const std::vector<int>& body_keys) {
+  const auto key_of = [&](int body) { return body < 0 ? -1 : body_keys[body]; };
+  SolvedIslands::Island key;
+  for (int r : in.island) {
+    ContactRow row = rows[r];
+    row.body_a = key_of(row.body_a);
+    row.body_b = key_of(row.body_b);
+    key.rows.push_back(row);
+  }
+  for (const int body : in.members) key.bodies.push_back(key_of(body));
+  key.before = in.before;
+  return key;
+}
+
 }  // namespace
 
 ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
@@ -536,36 +738,22 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     // (remembering every island made a 100-box drop, where nothing meets, 30 % slower).
     constexpr int kMemoRows = 16;
     const bool remember = memo && n >= kMemoRows;
-    bool frictional = false;
-    for (int r : island) frictional |= rows[r].friction > 0;
-    // The island's bodies (indices into velocities), in order of first appearance in its
-    // rows, and the velocities they start from: the memo's key, and what the friction
-    // rounds start again from.
-    std::vector<int> members;
-    std::vector<BodyVelocity> before;
-    if (remember || frictional)
+    IslandInput in{island, {}, {}, false};
+    for (int r : island) in.frictional |= rows[r].friction > 0;
+    if (remember || in.frictional)
       for (int r : island)
         for (const int body : {rows[r].body_a, rows[r].body_b})
           if (body >= 0 && island_stamp[body] != island_index) {
             island_stamp[body] = island_index;
-            members.push_back(body);
-            before.push_back(velocities[body]);
+            in.members.push_back(body);
+            in.before.push_back(velocities[body]);
           }
-    // The island as keys: its rows and bodies, and the velocities it starts from.
     SolvedIslands::Island key;
-    // The same island solved earlier at these poses with fewer rows (before the CCD added
-    // an impact's): where an iterative solve starts from.
+    // The same island solved earlier at these poses with fewer rows (before the CCD added an
+    // impact's): where an iterative solve starts from.
     const SolvedIslands::Island* earlier = nullptr;
     if (remember) {
-      const auto key_of = [&](int body) { return body < 0 ? -1 : (*body_keys)[body]; };
-      for (int r : island) {
-        ContactRow row = rows[r];
-        row.body_a = key_of(row.body_a);
-        row.body_b = key_of(row.body_b);
-        key.rows.push_back(row);
-      }
-      for (const int body : members) key.bodies.push_back(key_of(body));
-      key.before = before;
+      key = island_key(rows, in, *body_keys);
       const SolvedIslands::Island* same = nullptr;
       const auto candidates = memo->by_first_body.find(key.bodies.front());
       if (candidates != memo->by_first_body.end())
@@ -582,190 +770,41 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           result.normal_impulses_N_s[island[k]] = same->impulses[k];
           result.impulses_W_N_s[island[k]] = same->impulses_W[k];
         }
-        for (std::size_t b = 0; b < members.size(); ++b) velocities[members[b]] = same->after[b];
+        for (std::size_t b = 0; b < in.members.size(); ++b) velocities[in.members[b]] = same->after[b];
         result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, same->summary.kkt_residual_m_s);
         result.infeasible |= same->summary.infeasible;
         result.iterative_islands += same->summary.iterative_islands;
         continue;
       }
     }
-    // This island's own residual, squeeze and iterative flag (for the memo); the totals
-    // are restored below.
-    const double residual_before = result.kkt_residual_m_s;
-    const bool infeasible_before = result.infeasible;
-    const int iterative_before = result.iterative_islands;
-    result.kkt_residual_m_s = 0;
-    result.infeasible = false;
-    Eigen::VectorXd lambda = Eigen::VectorXd::Zero(n);
-    FrictionImpulses friction;
     const bool exact = options.kind == ContactSolverKind::kExact && n <= options.max_exact_rows;
-    if (options.kind == ContactSolverKind::kExact && !exact) ++result.iterative_islands;
-    if (exact) {
-      std::vector<JacobianRow> J(n);
-      for (int k = 0; k < n; ++k) J[k] = jacobian(rows[island[k]], rows[island[k]].normal_W, inertia);
-      const Eigen::MatrixXd A = delassus_matrix(J, rows, island, inertia);
-      SparseDelassus sparse_form;
-      std::vector<char> pushed_before(n);
-      for (int k = 0; k < n; ++k) pushed_before[k] = rows[island[k]].pushed_before;
-      // Without friction one exact solve. With it, staggered: exact normals for the
-      // current friction impulses, then friction sweeps with those normals held, three
-      // times, ending on an exact normal solve so the constraints hold exactly.
-      const int rounds = frictional ? 3 : 1;
-      if (frictional) {
-        // The friction sweeps start from last step's friction (kept in the disc of mu times
-        // last step's normal impulse), as the iterative solver's do. From zero, 50 sweeps
-        // did not quite stop a box resting on an incline (mu 0.7, 30 degrees) each step: it
-        // crept down at 2.8 mm/s. (Swept to the full `iterations` in both rounds, a settled
-        // frictional pile then swept longer from its loaded friction than from none: see
-        // ContactSolverOptions::provisional_friction_sweeps.)
-        friction.f1.assign(n, 0.0);
-        friction.f2.assign(n, 0.0);
-        for (int k = 0; k < n; ++k) {
-          const ContactRow& row = rows[island[k]];
-          if (row.friction <= 0) continue;
-          Eigen::Vector3d t1, t2;
-          tangents(row.normal_W, t1, t2);
-          warm_friction(row, row.warm_impulse_W_N_s, t1, t2, friction.f1[k], friction.f2[k]);
-        }
-      }
-      for (int round = 0; round < rounds; ++round) {
-        if (frictional) {
-          // (The island's own bodies only: a copy of every body's velocity per island was a
-          // tenth of a 1000-box pile's solve.)
-          if (round > 0)
-            for (std::size_t b = 0; b < members.size(); ++b) velocities[members[b]] = before[b];
-          // Apply the friction impulses found so far.
-          for (int k = 0; k < n; ++k) {
-            const ContactRow& row = rows[island[k]];
-            if (row.friction <= 0) continue;
-            Eigen::Vector3d t1, t2;
-            tangents(row.normal_W, t1, t2);
-            add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
-            add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
-          }
-        }
-        // q: the rows' velocities now minus their bounds, by how much a squeeze relaxes
-        // them (see below).
-        Eigen::VectorXd q(n);
-        const auto fill_q = [&](Relaxation relaxation, const std::vector<char>& contradictory) {
-          for (int i = 0; i < n; ++i) {
-            const ContactRow& ri = rows[island[i]];
-            double slack = ri.known_normal_velocity_m_s - ri.min_normal_velocity_m_s;
-            if (relaxation == Relaxation::kEveryRow || (relaxation == Relaxation::kContradictoryRows && contradictory[i]))
-              slack = ri.known_normal_velocity_m_s - std::min(0.0, ri.min_normal_velocity_m_s);
-            else if (relaxation == Relaxation::kNonDynamicMotionToo)
-              slack = std::max(0.0, slack);
-            q[i] = apply(J[i], ri, velocities) + slack;
-          }
-        };
-        std::vector<char> contradictory;  // (sized only when a solve fails: this is the hot path)
-        fill_q(Relaxation::kNone, contradictory);
-        // Frictional islands start from the rows that pushed (in the previous step, then in
-        // the previous round), not from every violated row (see solve_dual_exact).
-        std::vector<char> start_from = pushed_before;
-        if (round > 0)
-          for (int k = 0; k < n; ++k) start_from[k] = lambda[k] > 0;
-        DualSolution dual = solve_dual_exact(A, q, !frictional, start_from, sparse_form);
-        if (!dual.converged) {
-          // Contradictory demands: a body squeezed (between a tracked box and the table,
-          // say). Relaxed step by step until solvable, never launching anything:
-          // 1. the rows the solve could meet only through its ridge (the contradiction)
-          //    lose their push-apart demands (depenetration, restitution): n . v_rel >=
-          //    min(0, bound), "do not approach"; the rest of the island keeps its own;
-          // 2. so does every row (the contradiction reached further);
-          // 3. non-dynamic bodies close in from two sides: what they press in cannot be
-          //    undone this step. The dynamic bodies only keep from approaching anything
-          //    (J u >= min(0, bound - known), which u = 0 meets: always feasible), so none
-          //    falls through its other supports.
-          // (Before, the relaxed bounds had the wrong sign, stricter than the original; the
-          // island then got no impulses at all and a squeezed 100-bunny pile fell through
-          // itself: 1,637 pair-steps ended crossed in 300 steps, 2-7 s per step.)
-          result.infeasible = true;
-          bool any_contradictory = false;
-          contradictory.assign(n, 0);
-          for (int k = 0; k < n; ++k) {
-            contradictory[k] = dual.lambda[k] * dual.ridge > 1e-7;  // m/s of its demand met by the ridge
-            any_contradictory |= contradictory[k] != 0;
-          }
-          for (const Relaxation relaxation :
-               {Relaxation::kContradictoryRows, Relaxation::kEveryRow, Relaxation::kNonDynamicMotionToo}) {
-            if (relaxation == Relaxation::kContradictoryRows && !any_contradictory) continue;
-            fill_q(relaxation, contradictory);
-            dual = solve_dual_exact(A, q, !frictional, start_from, sparse_form);
-            if (dual.converged) break;
-          }
-          if (!dual.converged) dual.lambda.setZero();  // numerically lost: give up on this island rather than launch it
-        }
-        lambda = dual.lambda;
-        result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, dual.residual);
-        result.iterations += dual.iterations;
-        for (int k = 0; k < n; ++k) add_impulse(J[k], rows[island[k]], inertia, lambda[k], velocities);
-        if (round + 1 < rounds) {
-          const bool provisional = round + 2 < rounds;  // not the last round of sweeps
-          const int sweeps =
-              provisional ? std::min(options.iterations, options.provisional_friction_sweeps) : options.iterations;
-          result.iterations += projected_gauss_seidel(inertia, velocities, rows, island, lambda, sweeps,
-                                                      options.sweep_tolerance_m_s, true, friction);
-        }
-      }
-    } else {
-      // Warm start: the sweeps begin from last step's impulses, applied, instead of from
-      // nothing. Resting contacts' impulses change little from step to step; from zero, 50
-      // sweeps left a stack of ten 1.5 mm/s off its bounds every step, and it toppled.
-      friction.f1.assign(n, 0.0);
-      friction.f2.assign(n, 0.0);
-      // An island re-solved with an impact's rows added starts from its earlier solve's
-      // impulses, this step's, not last step's: a 1000-box pile's island of about 4000 rows,
-      // re-solved three times a step with a hundred rows added each time, was otherwise
-      // swept from the same start each time, and the sweeps' shortfall cut steps.
-      for (int k = 0; k < n; ++k) {
-        const ContactRow& row = rows[island[k]];
-        const Eigen::Vector3d& start_W =
-            earlier && static_cast<std::size_t>(k) < earlier->impulses_W.size() ? earlier->impulses_W[k] : row.warm_impulse_W_N_s;
-        lambda[k] = std::max(0.0, start_W.dot(row.normal_W));
-        add_impulse(jacobian(row, row.normal_W, inertia), row, inertia, lambda[k], velocities);
-        if (row.friction <= 0) continue;
-        Eigen::Vector3d t1, t2;
-        tangents(row.normal_W, t1, t2);
-        warm_friction(row, start_W, t1, t2, friction.f1[k], friction.f2[k]);  // (lambda[k]: its normal part)
-        add_impulse(jacobian(row, t1, inertia), row, inertia, friction.f1[k], velocities);
-        add_impulse(jacobian(row, t2, inertia), row, inertia, friction.f2[k], velocities);
-      }
-      result.iterations +=
-          projected_gauss_seidel(inertia, velocities, rows, island, lambda, options.iterations,
-                                 options.sweep_tolerance_m_s, false, friction);
-      // Report how far the iterative answer is from the KKT conditions.
-      for (int k = 0; k < n; ++k) {
-        const ContactRow& row = rows[island[k]];
-        const JacobianRow J = jacobian(row, row.normal_W, inertia);
-        const double w = apply(J, row, velocities) + row.known_normal_velocity_m_s - row.min_normal_velocity_m_s;
-        result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, std::max(-w, lambda[k] > 0 ? std::abs(w) : 0.0));
-      }
-    }
+    const int too_large = options.kind == ContactSolverKind::kExact && !exact ? 1 : 0;
+    result.iterative_islands += too_large;
+    const IslandAnswer answer = exact ? solve_island_exact(inertia, velocities, rows, in, options)
+                                      : solve_island_iterative(inertia, velocities, rows, in, options, earlier);
+    result.iterations += answer.iterations;
     for (int k = 0; k < n; ++k) {
       const ContactRow& row = rows[island[k]];
-      result.normal_impulses_N_s[island[k]] = lambda[k];
-      Eigen::Vector3d impulse = lambda[k] * row.normal_W;
-      if (row.friction > 0 && friction.f1.size() == static_cast<std::size_t>(n)) {
+      result.normal_impulses_N_s[island[k]] = answer.lambda[k];
+      Eigen::Vector3d impulse = answer.lambda[k] * row.normal_W;
+      if (row.friction > 0 && answer.friction.f1.size() == static_cast<std::size_t>(n)) {
         Eigen::Vector3d t1, t2;
         tangents(row.normal_W, t1, t2);
-        impulse += friction.f1[k] * t1 + friction.f2[k] * t2;
+        impulse += answer.friction.f1[k] * t1 + answer.friction.f2[k] * t2;
       }
       result.impulses_W_N_s[island[k]] = impulse;
     }
-    const double island_residual = result.kkt_residual_m_s;
-    const bool island_infeasible = result.infeasible;
-    result.kkt_residual_m_s = std::max(residual_before, island_residual);
-    result.infeasible = infeasible_before || island_infeasible;
+    result.kkt_residual_m_s = std::max(result.kkt_residual_m_s, answer.residual_m_s);
+    result.infeasible |= answer.infeasible;
     if (remember) {
       for (int k = 0; k < n; ++k) {
-        key.impulses.push_back(lambda[k]);
+        key.impulses.push_back(answer.lambda[k]);
         key.impulses_W.push_back(result.impulses_W_N_s[island[k]]);
       }
-      for (const int body : members) key.after.push_back(velocities[body]);
-      key.summary.kkt_residual_m_s = island_residual;
-      key.summary.infeasible = island_infeasible;
-      key.summary.iterative_islands = result.iterative_islands - iterative_before;
+      for (const int body : in.members) key.after.push_back(velocities[body]);
+      key.summary.kkt_residual_m_s = answer.residual_m_s;
+      key.summary.infeasible = answer.infeasible;
+      key.summary.iterative_islands = too_large;
       memo->by_first_body[key.bodies.front()].push_back(memo->islands.size());
       memo->islands.push_back(std::move(key));
     }
