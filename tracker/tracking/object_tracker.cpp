@@ -227,12 +227,8 @@ ObjectTracker::Fit ObjectTracker::fit_rigid_set(const std::vector<MarkerModel>& 
   return fit;
 }
 
-TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers, int64_t capture_utime) {
-  TrackingResult result;
-
-  // Which object owns each detection.
-  std::map<std::string, std::vector<const DetectedMarker*>> seen_by_object;
-  std::vector<const DetectedMarker*> seen_world;
+void ObjectTracker::assign_markers(const std::vector<DetectedMarker>& markers, TrackingResult& result,
+                                   std::map<std::string, SeenMarkers>& seen_by_object, SeenMarkers& seen_world) const {
   result.markers.reserve(markers.size());
   for (const auto& d : markers) {
     MarkerObservation obs;
@@ -254,86 +250,87 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     }
     result.markers.push_back(std::move(obs));
   }
+}
 
-  // The camera in the world, from every world-fixing marker at once.
+void ObjectTracker::update_camera_world(const SeenMarkers& seen_world, int64_t utime, TrackingResult& result) {
   if (!seen_world.empty()) {
-    const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, capture_utime);
+    const Fit fit = fit_rigid_set(world_markers_, seen_world, world_track_, utime);
     // A wrong world layout: the camera keeps its last world pose (the world objects' own
-    // fits below count and name what is wrong).
+    // fits count and name what is wrong).
     if (fit.ok && fit.pose.rms_px <= options_.max_fit_rms_px) {
-      const Pose X_CW = world_track_.filter.filter(fit.pose.X_CO, capture_utime * 1e-6);
+      const Pose X_CW = world_track_.filter.filter(fit.pose.X_CO, utime * 1e-6);
       if (world_track_.filter.rejected_last()) {
         ++result.rejected_poses;  // the camera keeps its last world pose
       } else {
-        record(world_track_, X_CW, capture_utime);
+        record(world_track_, X_CW, utime);
       }
     }
   }
   // A fixed camera keeps its last world pose while the world markers are hidden.
   result.camera_world_valid = world_track_.seen;
   if (world_track_.seen) result.X_WC = world_track_.X_CS.inverse();
+}
 
-  for (const auto& object : model_.objects) {
-    Track& track = tracks_[object.id];
-    ObjectObservation obs;
-    obs.id = object.id;
-    const auto seen = seen_by_object.find(object.id);
-    Fit fit;
-    if (seen != seen_by_object.end()) fit = fit_rigid_set(object.markers, seen->second, track, capture_utime);
-    result.rejected_markers += static_cast<int>(fit.rejected_ids.size());
-    obs.rejected_marker_ids = fit.rejected_ids;
-    if (fit.ok && fit.pose.rms_px > options_.max_fit_rms_px) {
-      // The markers seen do not fit the object's layout: no pose from them is a measurement.
-      ++result.poor_fits;
-      char text[160];
-      std::snprintf(text, sizeof text, "fit error %.2f px > %.2f px over markers %s", fit.pose.rms_px,
-                    options_.max_fit_rms_px, ids_text(fit.marker_ids).c_str());
-      obs.reason = text;
-      fit.ok = false;
-    }
-    const Pose X_filtered = fit.ok ? track.filter.filter(fit.pose.X_CO, capture_utime * 1e-6) : Pose::Identity();
-    if (fit.ok && track.filter.rejected_last()) {
-      // A fit far from where the object is going (a flipped single-marker pose): the
-      // filter's prediction stands in, and the track is not seen in this frame.
-      ++result.rejected_poses;
-      obs.status = TrackStatus::kPredicted;
-      obs.X_CO = X_filtered;
-      obs.reason = "fit dropped by the pose filter as an outlier";
-    } else if (fit.ok) {
-      record(track, X_filtered, capture_utime);
-      obs.status = TrackStatus::kTracked;
-      obs.X_CO = X_filtered;
-      obs.marker_ids = fit.marker_ids;
-      obs.rms_px = fit.pose.rms_px;
-      obs.position_sigma_m = fit.pose.position_sigma_m;
-      obs.rotation_sigma_rad = fit.pose.rotation_sigma_rad;
-    } else if (track.seen) {
-      const double age = seconds_between(capture_utime, track.last_seen_utime);
-      if (obs.reason.empty()) obs.reason = "not seen for " + milliseconds_text(age);
-      if (age <= options_.predict_s && age >= 0) {
-        obs.status = TrackStatus::kPredicted;
-        obs.X_CO = exp_twist(track.X_CS, track.v_m_s, track.w_rad_s, age);
-      } else {
-        obs.status = TrackStatus::kLost;
-        obs.X_CO = track.X_CS;
-        track.filter.reset();
-      }
-    } else if (obs.reason.empty()) {
-      obs.reason = "never seen";
-    }
-    obs.last_seen_utime = track.seen ? track.last_seen_utime : 0;
-    if (object.defines_world) {
-      obs.world_valid = true;
-      obs.X_WO = object.X_WO;
-    } else if (result.camera_world_valid && track.seen) {
-      obs.world_valid = true;
-      obs.X_WO = result.X_WC * obs.X_CO;
-    }
-    result.objects.push_back(obs);
+ObjectObservation ObjectTracker::observe_object(const ObjectModel& object, const SeenMarkers* seen, int64_t utime,
+                                                TrackingResult& result) {
+  Track& track = tracks_[object.id];
+  ObjectObservation obs;
+  obs.id = object.id;
+  Fit fit;
+  if (seen) fit = fit_rigid_set(object.markers, *seen, track, utime);
+  result.rejected_markers += static_cast<int>(fit.rejected_ids.size());
+  obs.rejected_marker_ids = fit.rejected_ids;
+  if (fit.ok && fit.pose.rms_px > options_.max_fit_rms_px) {
+    // The markers seen do not fit the object's layout: no pose from them is a measurement.
+    ++result.poor_fits;
+    char text[160];
+    std::snprintf(text, sizeof text, "fit error %.2f px > %.2f px over markers %s", fit.pose.rms_px,
+                  options_.max_fit_rms_px, ids_text(fit.marker_ids).c_str());
+    obs.reason = text;
+    fit.ok = false;
   }
+  const Pose X_filtered = fit.ok ? track.filter.filter(fit.pose.X_CO, utime * 1e-6) : Pose::Identity();
+  if (fit.ok && track.filter.rejected_last()) {
+    // A fit far from where the object is going (a flipped single-marker pose): the
+    // filter's prediction stands in, and the track is not seen in this frame.
+    ++result.rejected_poses;
+    obs.status = TrackStatus::kPredicted;
+    obs.X_CO = X_filtered;
+    obs.reason = "fit dropped by the pose filter as an outlier";
+  } else if (fit.ok) {
+    record(track, X_filtered, utime);
+    obs.status = TrackStatus::kTracked;
+    obs.X_CO = X_filtered;
+    obs.marker_ids = fit.marker_ids;
+    obs.rms_px = fit.pose.rms_px;
+    obs.position_sigma_m = fit.pose.position_sigma_m;
+    obs.rotation_sigma_rad = fit.pose.rotation_sigma_rad;
+  } else if (track.seen) {
+    const double age = seconds_between(utime, track.last_seen_utime);
+    if (obs.reason.empty()) obs.reason = "not seen for " + milliseconds_text(age);
+    if (age <= options_.predict_s && age >= 0) {
+      obs.status = TrackStatus::kPredicted;
+      obs.X_CO = exp_twist(track.X_CS, track.v_m_s, track.w_rad_s, age);
+    } else {
+      obs.status = TrackStatus::kLost;
+      obs.X_CO = track.X_CS;
+      track.filter.reset();
+    }
+  } else if (obs.reason.empty()) {
+    obs.reason = "never seen";
+  }
+  obs.last_seen_utime = track.seen ? track.last_seen_utime : 0;
+  if (object.defines_world) {
+    obs.world_valid = true;
+    obs.X_WO = object.X_WO;
+  } else if (result.camera_world_valid && track.seen) {
+    obs.world_valid = true;
+    obs.X_WO = result.X_WC * obs.X_CO;
+  }
+  return obs;
+}
 
-  // Marker poses: an owned marker's from its object's fit (consistent and resolved),
-  // a loose marker's from its own solutions, disambiguated against its last pose.
+void ObjectTracker::pose_markers(TrackingResult& result, int64_t utime) {
   for (auto& obs : result.markers) {
     if (!obs.owner.empty()) {
       for (const auto& o : result.objects) {
@@ -363,7 +360,7 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     const auto key = std::make_pair(obs.marker.family, obs.marker.id);
     std::optional<Pose> previous;
     const auto it = loose_markers_.find(key);
-    if (it != loose_markers_.end() && seconds_between(capture_utime, loose_seen_utime_[key]) <= options_.memory_s) {
+    if (it != loose_markers_.end() && seconds_between(utime, loose_seen_utime_[key]) <= options_.memory_s) {
       previous = it->second;
     }
     const int pick = choose_nearest(s, previous, options_.ambiguity_ratio_threshold);
@@ -371,8 +368,22 @@ TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers,
     obs.X_CM = s.X_CM[pick];
     obs.rms_px = s.rms_px[pick];
     loose_markers_[key] = obs.X_CM;
-    loose_seen_utime_[key] = capture_utime;
+    loose_seen_utime_[key] = utime;
   }
+}
+
+TrackingResult ObjectTracker::update(const std::vector<DetectedMarker>& markers, int64_t capture_utime) {
+  TrackingResult result;
+  std::map<std::string, SeenMarkers> seen_by_object;
+  SeenMarkers seen_world;
+  assign_markers(markers, result, seen_by_object, seen_world);
+  update_camera_world(seen_world, capture_utime, result);
+  for (const auto& object : model_.objects) {
+    const auto seen = seen_by_object.find(object.id);
+    result.objects.push_back(
+        observe_object(object, seen == seen_by_object.end() ? nullptr : &seen->second, capture_utime, result));
+  }
+  pose_markers(result, capture_utime);
   return result;
 }
 

@@ -157,6 +157,19 @@ class ObjectTracker {
   int choose_branch(Track& track, const std::array<Pose, 2>& X_CO, const MarkerPoseSolutions& solutions, int64_t utime);
   std::optional<Pose> predicted(const Track& track, int64_t utime) const;
   void record(Track& track, const Pose& X_CO, int64_t utime);
+  // The detections by owning object (and those of world-fixing objects), each listed in
+  // result.markers; unknown ones counted.
+  using SeenMarkers = std::vector<const DetectedMarker*>;
+  void assign_markers(const std::vector<DetectedMarker>& markers, TrackingResult& result,
+                      std::map<std::string, SeenMarkers>& seen_by_object, SeenMarkers& seen_world) const;
+  // The camera in the world from every world-fixing marker at once.
+  void update_camera_world(const SeenMarkers& seen_world, int64_t utime, TrackingResult& result);
+  // One object's observation this frame: tracked, predicted or lost, with the reason.
+  ObjectObservation observe_object(const ObjectModel& object, const SeenMarkers* seen, int64_t utime,
+                                   TrackingResult& result);
+  // Each marker's pose: an owned marker's from its object's fit, a loose one's from its own
+  // solutions, disambiguated against its last pose.
+  void pose_markers(TrackingResult& result, int64_t utime);
 
   TrackerModel model_;
   CameraModel camera_;
