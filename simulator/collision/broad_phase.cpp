@@ -103,6 +103,84 @@ std::vector<std::pair<int, int>> overlapping_pairs_updated(const std::vector<Eig
   return pairs;
 }
 
+namespace {
+
+// The overlapping pairs among `narrow` (boxes about as wide as mean_extent, within lo..hi):
+// sweep and prune along x within cells of a grid over y and z about as wide as a box.
+void sweep_cells(const std::vector<Eigen::AlignedBox3d>& boxes, std::vector<int>& narrow, const Eigen::Vector3d& lo,
+                 const Eigen::Vector3d& hi, const Eigen::Vector3d& mean_extent,
+                 std::vector<std::pair<int, int>>& pairs) {
+  const auto report = [&](int i, int j) { pairs.emplace_back(std::min(i, j), std::max(i, j)); };
+  // At most about 2 sqrt(n) cells along each axis (clusters far apart would make
+  // many empty ones): at most four per box.
+  const double per_axis = std::ceil(2.0 * std::sqrt(static_cast<double>(narrow.size())));
+  const double width_y = std::max({mean_extent.y(), (hi.y() - lo.y()) / per_axis, 1e-9});
+  const double width_z = std::max({mean_extent.z(), (hi.z() - lo.z()) / per_axis, 1e-9});
+  const auto cell_y = [&](double y) { return static_cast<int>((y - lo.y()) / width_y); };
+  const auto cell_z = [&](double z) { return static_cast<int>((z - lo.z()) / width_z); };
+  const int cells_z = cell_z(hi.z()) + 1;
+  const int cells = (cell_y(hi.y()) + 1) * cells_z;
+  std::sort(narrow.begin(), narrow.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
+  // Each box's first cell along y and z (where a pair is reported), and its last.
+  std::vector<std::array<int, 4>> span(boxes.size());
+  for (const int i : narrow)
+    span[i] = {cell_y(boxes[i].min().y()), cell_z(boxes[i].min().z()), cell_y(boxes[i].max().y()),
+               cell_z(boxes[i].max().z())};
+  // The cells' boxes, contiguous and in sweep order (a box's entries follow the x order
+  // within each cell; indirect access to the boxes doubled the scan's cost).
+  std::vector<int> start(cells + 1, 0);
+  for (const int i : narrow)
+    for (int y = span[i][0]; y <= span[i][2]; ++y)
+      for (int z = span[i][1]; z <= span[i][3]; ++z) ++start[y * cells_z + z + 1];
+  std::partial_sum(start.begin(), start.end(), start.begin());
+  std::vector<int> fill(start.begin(), start.end() - 1);
+  std::vector<Eigen::AlignedBox3d> entry_box(start.back());
+  std::vector<int> entry_index(start.back());
+  for (const int i : narrow)
+    for (int y = span[i][0]; y <= span[i][2]; ++y)
+      for (int z = span[i][1]; z <= span[i][3]; ++z) {
+        const int c = y * cells_z + z;
+        entry_box[fill[c]] = boxes[i];
+        entry_index[fill[c]++] = i;
+      }
+  for (int c = 0; c < cells; ++c) {
+    const int y = c / cells_z, z = c % cells_z;
+    for (int k = start[c]; k < start[c + 1]; ++k) {
+      const Eigen::AlignedBox3d& a = entry_box[k];
+      const double end_x = a.max().x();
+      const std::array<int, 4>& span_a = span[entry_index[k]];
+      for (int l = k + 1; l < start[c + 1] && entry_box[l].min().x() <= end_x; ++l) {
+        const Eigen::AlignedBox3d& b = entry_box[l];
+        if (a.min().y() <= b.max().y() && b.min().y() <= a.max().y() && a.min().z() <= b.max().z() &&
+            b.min().z() <= a.max().z()) {
+          const std::array<int, 4>& span_b = span[entry_index[l]];
+          if (std::max(span_a[0], span_b[0]) == y && std::max(span_a[1], span_b[1]) == z)
+            report(entry_index[k], entry_index[l]);
+        }
+      }
+    }
+  }
+}
+
+// Sorts pairs of indices below n by two counting passes (second index, then stably the
+// first): linear in the pairs, where a comparison sort of a pile's thousands of pairs cost
+// as much as the sweep.
+void sort_pairs(std::vector<std::pair<int, int>>& pairs, int n) {
+  std::vector<std::pair<int, int>> by_second(pairs.size());
+  std::vector<int> start(n + 1);
+  const auto counting_pass = [&](const std::vector<std::pair<int, int>>& in, std::vector<std::pair<int, int>>& out,
+                                 int std::pair<int, int>::*key) {
+    std::fill(start.begin(), start.end(), 0);
+    for (const auto& pair : in) ++start[pair.*key + 1];
+    std::partial_sum(start.begin(), start.end(), start.begin());
+    for (const auto& pair : in) out[start[pair.*key]++] = pair;
+  };
+  counting_pass(pairs, by_second, &std::pair<int, int>::second);
+  counting_pass(by_second, pairs, &std::pair<int, int>::first);
+}
+
+}  // namespace
+
 std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::AlignedBox3d>& boxes) {
   std::vector<int> order;
   order.reserve(boxes.size());
@@ -146,70 +224,8 @@ std::vector<std::pair<int, int>> overlapping_pairs(const std::vector<Eigen::Alig
     for (const int i : narrow)
       if (overlap(boxes[wide[w]], boxes[i])) report(wide[w], i);
   }
-  if (!narrow.empty()) {
-    // At most about 2 sqrt(n) cells along each axis (clusters far apart would make
-    // many empty ones): at most four per box.
-    const double per_axis = std::ceil(2.0 * std::sqrt(static_cast<double>(narrow.size())));
-    const double width_y = std::max({mean_extent.y(), (hi.y() - lo.y()) / per_axis, 1e-9});
-    const double width_z = std::max({mean_extent.z(), (hi.z() - lo.z()) / per_axis, 1e-9});
-    const auto cell_y = [&](double y) { return static_cast<int>((y - lo.y()) / width_y); };
-    const auto cell_z = [&](double z) { return static_cast<int>((z - lo.z()) / width_z); };
-    const int cells_z = cell_z(hi.z()) + 1;
-    const int cells = (cell_y(hi.y()) + 1) * cells_z;
-    std::sort(narrow.begin(), narrow.end(), [&](int a, int b) { return boxes[a].min().x() < boxes[b].min().x(); });
-    // Each box's first cell along y and z (where a pair is reported), and its last.
-    std::vector<std::array<int, 4>> span(boxes.size());
-    for (const int i : narrow)
-      span[i] = {cell_y(boxes[i].min().y()), cell_z(boxes[i].min().z()), cell_y(boxes[i].max().y()),
-                 cell_z(boxes[i].max().z())};
-    // The cells' boxes, contiguous and in sweep order (a box's entries follow the x order
-    // within each cell; indirect access to the boxes doubled the scan's cost).
-    std::vector<int> start(cells + 1, 0);
-    for (const int i : narrow)
-      for (int y = span[i][0]; y <= span[i][2]; ++y)
-        for (int z = span[i][1]; z <= span[i][3]; ++z) ++start[y * cells_z + z + 1];
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    std::vector<Eigen::AlignedBox3d> entry_box(start.back());
-    std::vector<int> entry_index(start.back());
-    for (const int i : narrow)
-      for (int y = span[i][0]; y <= span[i][2]; ++y)
-        for (int z = span[i][1]; z <= span[i][3]; ++z) {
-          const int c = y * cells_z + z;
-          entry_box[fill[c]] = boxes[i];
-          entry_index[fill[c]++] = i;
-        }
-    for (int c = 0; c < cells; ++c) {
-      const int y = c / cells_z, z = c % cells_z;
-      for (int k = start[c]; k < start[c + 1]; ++k) {
-        const Eigen::AlignedBox3d& a = entry_box[k];
-        const double end_x = a.max().x();
-        const std::array<int, 4>& span_a = span[entry_index[k]];
-        for (int l = k + 1; l < start[c + 1] && entry_box[l].min().x() <= end_x; ++l) {
-          const Eigen::AlignedBox3d& b = entry_box[l];
-          if (a.min().y() <= b.max().y() && b.min().y() <= a.max().y() && a.min().z() <= b.max().z() &&
-              b.min().z() <= a.max().z()) {
-            const std::array<int, 4>& span_b = span[entry_index[l]];
-            if (std::max(span_a[0], span_b[0]) == y && std::max(span_a[1], span_b[1]) == z)
-              report(entry_index[k], entry_index[l]);
-          }
-        }
-      }
-    }
-  }
-  // Sorted by two counting passes (second index, then stably the first): linear in the
-  // pairs, where a comparison sort of a pile's thousands of pairs cost as much as the sweep.
-  std::vector<std::pair<int, int>> by_second(pairs.size());
-  std::vector<int> start(boxes.size() + 1);
-  const auto counting_pass = [&](const std::vector<std::pair<int, int>>& in, std::vector<std::pair<int, int>>& out,
-                                 int std::pair<int, int>::*key) {
-    std::fill(start.begin(), start.end(), 0);
-    for (const auto& pair : in) ++start[pair.*key + 1];
-    std::partial_sum(start.begin(), start.end(), start.begin());
-    for (const auto& pair : in) out[start[pair.*key]++] = pair;
-  };
-  counting_pass(pairs, by_second, &std::pair<int, int>::second);
-  counting_pass(by_second, pairs, &std::pair<int, int>::first);
+  if (!narrow.empty()) sweep_cells(boxes, narrow, lo, hi, mean_extent, pairs);
+  sort_pairs(pairs, static_cast<int>(boxes.size()));
   return pairs;
 }
 
