@@ -127,7 +127,8 @@ TEST(BenchmarksSmoke, CcdBenchmarkJudgesEveryMethodAgainstTheSampledTruth) {
 
 // One trial per sweep cell and a 30-frame sequence: every detector configuration and the
 // peer run, AprilTag at full resolution finds every frame's board within half a millimetre, and
-// the edge refinement makes each detector's single tag more accurate than without it.
+// the edge refinement makes each detector's single tag more accurate than without it; the
+// real photos' pass runs too.
 TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   if (!kPeersBuilt) GTEST_SKIP() << "the peer benchmarks are built with -DARPHYS_BUILD_PEERS=ON";
   const std::string out = fresh_dir("track");
@@ -162,6 +163,20 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   const auto near = rows_where(rows_where(read_csv(out + "/track_sweep.csv"), "config", "apriltag_d1"), "distance_m", "0.2");
   ASSERT_FALSE(near.empty());
   for (const CsvRow& row : near) EXPECT_EQ(row.at("detected"), "1") << row.at("size_m") << " m at " << row.at("angle_deg");
+  // The real photos: the reference's own configuration reproduces its 47 detections exactly
+  // (the photo pass reads the reference's pixel convention right), and on real corners the
+  // edge refinement leaves single-marker fits closer to a square than the raw corners do.
+  const auto photos = read_csv(out + "/track_photos.csv");
+  const auto photo = [&](const std::string& config, const std::string& column) {
+    const auto rows = rows_where(photos, "config", config);
+    return rows.size() == 1 ? number(rows[0], column) : NAN;
+  };
+  EXPECT_EQ(photo("apriltag_d1_reference", "references"), 47);
+  EXPECT_EQ(photo("apriltag_d1_reference", "found"), 47);
+  EXPECT_LT(photo("apriltag_d1_reference", "corner_offset_p90_px"), 0.1);
+  EXPECT_GE(photo("apriltag_d1", "found"), 44);
+  EXPECT_LT(photo("apriltag_d1", "reprojection_median_px"), photo("apriltag_d1_reference", "reprojection_median_px"));
+  EXPECT_LT(photo("aruco_subpix", "reprojection_median_px"), 0.5);
   std::filesystem::remove_all(out);
 }
 

@@ -7,9 +7,11 @@
 //   sequence: a 640x480 video of a moving 2x2 board and a moving single marker, run in
 //             order (prediction allowed): ms per frame, recall against decimation 1,
 //             pose errors and flips in continuous tracking: the speed/accuracy frontier.
-// Writes track_sweep.csv, track_sequence.csv and track_frames.csv to --out.
+//   photos:   the apriltag repository's real photos (photo_pass.hpp): reference detections
+//             found, corner offsets, single-marker fit residuals, ms per photo.
+// Writes track_sweep.csv, track_effects.csv, track_sequence.csv, track_frames.csv and
+// track_photos.csv to --out.
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +19,7 @@
 #include <fstream>
 #include <map>
 
+#include "tools/track_bench/photo_pass.hpp"
 #include "tools/track_bench/visp_detector.hpp"
 #include "tracker/detection/edge_refinement.hpp"
 #include "tracker/detection/marker_detector.hpp"
@@ -313,6 +316,30 @@ void sequence(const std::string& out_dir, int frames, int repeats, const std::ve
   }
 }
 
+// The real photos, with the reference's own configuration first (apriltag at decimation 1,
+// corners unrefined) and each detector with and without the edge refinement.
+void photos(const std::string& out_dir, const std::string& folder, int repeats) {
+  std::vector<bench::PhotoConfig> list{
+      {"apriltag_d1_reference", {"apriltag", {"tag36h11"}, {{"decimate", "1"}, {"refine_edges", "0"}}}, false},
+      {"apriltag_d1_raw", {"apriltag", {"tag36h11"}, {{"decimate", "1"}}}, false}};
+  for (const auto& c : picture_configs())
+    if (c.name != "apriltag_d4" && c.name != "aruco_t20") list.push_back({c.name, c.spec, c.refine});
+  std::fprintf(stderr, "photos: %zu configurations on %s\n", list.size(), folder.c_str());
+  const auto figures = bench::photo_pass(list, folder, folder + "/../nominal_camera_799x533.yaml", repeats);
+  std::ofstream csv(out_dir + "/track_photos.csv");
+  csv << "config,references,found,extra,corner_offset_median_px,corner_offset_p90_px,reprojection_median_px,"
+         "reprojection_p90_px,median_ms\n";
+  std::printf("\n%-18s %6s %6s %14s %14s %8s\n", "config", "found", "extra", "offset_px", "reproj_px", "ms");
+  for (const auto& f : figures) {
+    csv << f.config << "," << f.references << "," << f.found << "," << f.extra << "," << f.corner_offset_median_px
+        << "," << f.corner_offset_p90_px << "," << f.reprojection_median_px << "," << f.reprojection_p90_px << ","
+        << f.median_ms << "\n";
+    std::printf("%-18s %3d/%-2d %6d %6.3f (%5.3f) %6.3f (%5.3f) %8.2f\n", f.config.c_str(), f.found, f.references,
+                f.extra, f.corner_offset_median_px, f.corner_offset_p90_px, f.reprojection_median_px,
+                f.reprojection_p90_px, f.median_ms);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -322,6 +349,7 @@ int main(int argc, char** argv) {
   int trials = 5, frames = 300, repeats = 3;
   uint64_t seed = 1;
   bool quick = false, no_sweep = false;
+  std::string photo_folder = std::string(ARPHYS_SOURCE_DIR) + "/tests/data/apriltag_photos";
   std::vector<std::string> only;
   app.add_option("--out", out, "output directory")->capture_default_str();
   app.add_option("--trials", trials, "random views per sweep cell")->capture_default_str();
@@ -329,7 +357,9 @@ int main(int argc, char** argv) {
   app.add_option("--repeats", repeats, "timing passes over the sequence")->capture_default_str();
   app.add_option("--seed", seed, "random seed of the sweep")->capture_default_str();
   app.add_flag("--quick", quick, "2 trials, 90 frames, 1 pass (a smoke run)");
-  app.add_flag("--no-sweep", no_sweep, "only the sequence");
+  app.add_flag("--no-sweep", no_sweep, "only the sequence (and the photos)");
+  app.add_option("--photos", photo_folder, "real photos with reference detections (NAME.jpg, NAME.txt)")
+      ->capture_default_str();
   std::vector<std::string> names;
   for (const auto& c : configs()) names.push_back(c.name);
   app.add_option("--config", only, "sequence: only these configurations (and apriltag_d1, the recall reference)")
@@ -346,5 +376,6 @@ int main(int argc, char** argv) {
     effects_sweep(out, trials, seed);
   }
   sequence(out, frames, repeats, only);
+  photos(out, photo_folder, repeats);
   return 0;
 }
