@@ -140,7 +140,7 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   EXPECT_EQ(values_of(sequence, "config"),
             (std::set<std::string>{"apriltag_d1", "apriltag_d2", "apriltag_d2_raw", "apriltag_d4", "apriltag_roi",
                                    "aruco_subpix", "aruco_subpix_raw", "aruco_t20", "aruco_roi", "aruco_roi_t20",
-                                   "visp_d1", "visp_d2"}));
+                                   "aruco_roi_t20_c4", "visp_d1", "visp_d2"}));
   const auto full = rows_where(sequence, "config", "apriltag_d1");
   ASSERT_EQ(full.size(), 1u);
   EXPECT_EQ(number(full[0], "recall_vs_d1"), 1.0);
@@ -157,8 +157,13 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   // millimetre here), and the edge refinement beats both.
   EXPECT_NEAR(tag_mm("visp_d2"), tag_mm("apriltag_d2_raw"), 0.05);
   EXPECT_LT(tag_mm("apriltag_d2"), tag_mm("visp_d2"));
-  // ArUco's predictive search keeps its lone tag as accurate as the whole-frame search.
+  // ArUco's predictive search keeps its lone tag as accurate as the whole-frame search, and
+  // so does following the markers with a coarse pass one frame in four, every marker found.
   EXPECT_LT(tag_mm("aruco_roi"), 2 * tag_mm("aruco_subpix"));
+  EXPECT_LT(tag_mm("aruco_roi_t20_c4"), 2 * tag_mm("aruco_subpix"));
+  const auto followed = rows_where(sequence, "config", "aruco_roi_t20_c4");
+  ASSERT_EQ(followed.size(), 1u);
+  EXPECT_GE(number(followed[0], "recall_vs_d1"), 0.99);
   // The nearest cells of the sweep (20 cm away): every view found.
   const auto near = rows_where(rows_where(read_csv(out + "/track_sweep.csv"), "config", "apriltag_d1"), "distance_m", "0.2");
   ASSERT_FALSE(near.empty());

@@ -4,14 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <regex>
-
 #include <opencv2/imgcodecs.hpp>
+#include <regex>
 
 #include "tests/tracker/tracker_test_support.hpp"
 #include "tracker/detection/apriltag_detector.hpp"
 #include "tracker/detection/aruco_detector.hpp"
 #include "tracker/detection/marker_family.hpp"
+#include "tracker/detection/predictive_search.hpp"
 
 namespace arphys::tracking {
 namespace {
@@ -202,6 +202,62 @@ TEST(Detectors, ArucoPredictiveSearchKeepsFullResolutionCorners) {
   EXPECT_THROW(roi.set_param("coarse_decimate", "0"), std::invalid_argument);
   EXPECT_THROW(roi.set_param("scan_tiles", "300"), std::invalid_argument);
   EXPECT_THROW(roi.set_param("threshold_step", "0"), std::invalid_argument);
+}
+
+// A marker of side `side` px with its top-left corner at (x, y).
+DetectedMarker square_marker(int id, double x, double y, double side) {
+  DetectedMarker m;
+  m.family = "tag36h11";
+  m.id = id;
+  m.corners_px = {Eigen::Vector2d(x, y + side), Eigen::Vector2d(x + side, y + side), Eigen::Vector2d(x + side, y),
+                  Eigen::Vector2d(x, y)};
+  return m;
+}
+
+// coarse_every: while last frame's markers are all found in their windows, the whole-frame
+// pass runs one frame in four; a frame whose windows miss a marker runs it at once, and a
+// new marker is found within four frames. Scripted searches count the calls: the world
+// holds what `scene` says, a window finds what lies wholly inside it.
+TEST(Detectors, PredictiveSearchRunsTheCoarsePassEveryFourthFrameWhileFollowing) {
+  std::vector<DetectedMarker> scene;
+  int coarse_calls = 0;
+  const PredictiveSearch::CoarseSearch coarse = [&](const cv::Mat&) {
+    ++coarse_calls;
+    return scene;
+  };
+  const PredictiveSearch::RegionSearch fine = [&](const cv::Mat&, const cv::Rect& region, int) {
+    std::vector<DetectedMarker> inside;
+    for (const auto& m : scene)
+      if ((marker_bounds(m) & region) == marker_bounds(m)) inside.push_back(m);
+    return inside;
+  };
+  const cv::Mat frame(480, 640, CV_8UC1, cv::Scalar(128));
+  PredictiveSearch search(0);
+  search.set_coarse_every(4);
+  std::vector<int> coarse_frames;
+  for (int f = 0; f < 13; ++f) {
+    // Two markers, 3 px a frame to the right; a third appears at frame 9, far from them.
+    scene = {square_marker(1, 100 + 3 * f, 100, 60), square_marker(2, 170 + 3 * f, 100, 60)};
+    if (f >= 9) scene.push_back(square_marker(3, 500, 400, 50));
+    const int before = coarse_calls;
+    const auto found = search.detect(frame, coarse, fine);
+    if (coarse_calls > before) coarse_frames.push_back(f);
+    EXPECT_GE(found.size(), 2u) << "frame " << f;
+    if (f == 11) {
+      EXPECT_EQ(found.size(), 2u) << "no coarse pass since the new marker came";
+    } else if (f == 12) {
+      EXPECT_EQ(found.size(), 3u) << "the coarse pass, four frames after the last";
+    }
+  }
+  EXPECT_EQ(coarse_frames, (std::vector<int>{0, 4, 8, 12}));
+  // A marker that jumps out of its window: that frame runs the coarse pass and finds it.
+  scene = {square_marker(1, 400, 300, 60), square_marker(2, 170 + 39, 100, 60), square_marker(3, 500, 400, 50)};
+  const int before = coarse_calls;
+  const auto found = search.detect(frame, coarse, fine);
+  EXPECT_EQ(coarse_calls, before + 1);
+  EXPECT_NE(find_marker(found, 1), nullptr);
+  EXPECT_THROW(search.set_coarse_every(0), std::invalid_argument);
+  EXPECT_THROW(search.set_coarse_every(31), std::invalid_argument);
 }
 
 // The apriltag repository's photos: libapriltag at decimation 1 without edge refinement

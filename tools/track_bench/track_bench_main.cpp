@@ -51,6 +51,10 @@ std::vector<Config> configs() {
       {"aruco_t20", {"aruco", {"tag36h11"}, {{"threshold_step", "20"}}}, true},
       {"aruco_roi", {"aruco", {"tag36h11"}, {{"roi_tracking", "1"}}}, true, true},
       {"aruco_roi_t20", {"aruco", {"tag36h11"}, {{"roi_tracking", "1"}, {"threshold_step", "20"}}}, true, true},
+      {"aruco_roi_t20_c4",
+       {"aruco", {"tag36h11"}, {{"roi_tracking", "1"}, {"threshold_step", "20"}, {"coarse_every", "4"}}},
+       true,
+       true},
       // The peer, as a ViSP user gets it (its corners without our edge refinement).
       {"visp_d1", {"visp", {"tag36h11"}, {{"decimate", "1"}}}, false},
       {"visp_d2", {"visp", {"tag36h11"}, {{"decimate", "2"}}}, false},

@@ -46,10 +46,12 @@ int main(int argc, char** argv) {
   app.add_option("--impl", impl, "detector implementation")->check(CLI::IsMember(detector_implementations()))
       ->capture_default_str();
   app.add_option("--family", families, "marker families to detect (default: the scene's, else tag36h11)");
-  app.add_option("--param", params, "detector parameter NAME=VALUE, repeatable. apriltag: decimate, sigma, "
-                                    "refine_edges, sharpening, threads, max_hamming, roi_tracking, coarse_decimate, "
-                                    "scan_tiles; aruco: corner_refinement, subpix_window, aruco3, min_marker_fraction, "
-                                    "canonical_px, threshold_step, roi_tracking, coarse_decimate, scan_tiles");
+  app.add_option("--param", params,
+                 "detector parameter NAME=VALUE, repeatable. apriltag: decimate, sigma, "
+                 "refine_edges, sharpening, threads, max_hamming, roi_tracking, coarse_decimate, "
+                 "scan_tiles, coarse_every; aruco: corner_refinement, subpix_window, aruco3, "
+                 "min_marker_fraction, canonical_px, threshold_step, roi_tracking, coarse_decimate, "
+                 "scan_tiles, coarse_every");
   app.add_option("--fps", run.fps, "frame rate of an image folder, for its capture times")->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--width", run.width, "V4L2: requested frame width, pixels");

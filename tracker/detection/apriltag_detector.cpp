@@ -52,7 +52,9 @@ std::string AprilTagDetector::describe() const {
   for (size_t i = 0; i < families_.size(); ++i) out << (i ? "," : "") << families_[i].name();
   out << " decimate=" << decimate_ << " sigma=" << detector_->quad_sigma << " refine_edges=" << detector_->refine_edges
       << " threads=" << detector_->nthreads;
-  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles();
+  if (roi_tracking_)
+    out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles()
+        << " coarse_every=" << search_.coarse_every();
   return out.str();
 }
 
@@ -81,10 +83,12 @@ void AprilTagDetector::set_param(const std::string& name, const std::string& val
     if (roi_tracking_) detector_->quad_decimate = static_cast<float>(coarse_decimate_);
   } else if (name == "scan_tiles") {
     search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
+  } else if (name == "coarse_every") {
+    search_.set_coarse_every(parse_param_int(name, value, 1, 30));
   } else {
     throw std::invalid_argument("apriltag has no parameter '" + name +
                                 "' (expected decimate, sigma, refine_edges, sharpening, threads, max_hamming, "
-                                "roi_tracking, coarse_decimate, scan_tiles)");
+                                "roi_tracking, coarse_decimate, scan_tiles, coarse_every)");
   }
 }
 

@@ -1,9 +1,9 @@
 #include "tracker/detection/aruco_detector.hpp"
 
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
 #include <stdexcept>
-
-#include <opencv2/imgproc.hpp>
 
 #include "tracker/detection/marker_family.hpp"
 #include "tracker/detection/param_parsing.hpp"
@@ -38,7 +38,9 @@ std::string ArucoDetector::describe() const {
   out << " corner_refinement=" << refinement_;
   if (refinement_ == "subpix") out << " subpix_window=" << parameters_->cornerRefinementWinSize;
   if (parameters_->useAruco3Detection) out << " aruco3=1";
-  if (roi_tracking_) out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles();
+  if (roi_tracking_)
+    out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles()
+        << " coarse_every=" << search_.coarse_every();
   return out.str();
 }
 
@@ -75,10 +77,13 @@ void ArucoDetector::set_param(const std::string& name, const std::string& value)
     search_.set_refine_coarse_below_px(coarse_decimate_ > 1 ? kRefineBelowPx : 0);  // full resolution needs none
   } else if (name == "scan_tiles") {
     search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
+  } else if (name == "coarse_every") {
+    search_.set_coarse_every(parse_param_int(name, value, 1, 30));
   } else {
-    throw std::invalid_argument("aruco has no parameter '" + name +
-                                "' (expected corner_refinement, subpix_window, aruco3, min_marker_fraction, "
-                                "canonical_px, threshold_step, roi_tracking, coarse_decimate, scan_tiles)");
+    throw std::invalid_argument(
+        "aruco has no parameter '" + name +
+        "' (expected corner_refinement, subpix_window, aruco3, min_marker_fraction, "
+        "canonical_px, threshold_step, roi_tracking, coarse_decimate, scan_tiles, coarse_every)");
   }
 }
 
@@ -100,11 +105,22 @@ std::vector<DetectedMarker> ArucoDetector::detect_region(const cv::Mat& gray, co
     image = small;
   }
   const double fx = static_cast<double>(region.width) / image.cols, fy = static_cast<double>(region.height) / image.rows;
+  // ArUco's smallest marker is a fraction of the picture's larger side: in a window that is
+  // a fraction of the frame's, so in a 150 px window a 5 px contour became a candidate and
+  // a window cost as much as the whole frame at half resolution. The smallest marker stays
+  // the whole frame's, in frame pixels.
+  cv::Ptr<cv::aruco::DetectorParameters> parameters = parameters_;
+  const double frame_side_px = std::max(gray.cols, gray.rows), searched_side_px = std::max(region.width, region.height);
+  if (searched_side_px < frame_side_px) {
+    parameters = cv::makePtr<cv::aruco::DetectorParameters>(*parameters_);
+    parameters->minMarkerPerimeterRate = std::min(
+        parameters_->maxMarkerPerimeterRate, parameters_->minMarkerPerimeterRate * frame_side_px / searched_side_px);
+  }
   std::vector<DetectedMarker> markers;
   for (const auto& d : dictionaries_) {
     std::vector<std::vector<cv::Point2f>> corners;
     std::vector<int> ids;
-    cv::aruco::detectMarkers(image, d.dictionary, corners, ids, parameters_);
+    cv::aruco::detectMarkers(image, d.dictionary, corners, ids, parameters);
     for (size_t i = 0; i < ids.size(); ++i) {
       DetectedMarker m;
       m.family = d.family;
