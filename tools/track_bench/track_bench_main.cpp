@@ -113,7 +113,8 @@ void sweep(const std::string& out_dir, int trials, uint64_t seed) {
   const std::vector<Config> list = picture_configs();
   const auto detectors = make_detectors(list);
   std::ofstream csv(out_dir + "/track_sweep.csv");
-  csv << "config,size_m,distance_m,angle_deg,trial,detected,corner_rms_px,position_error_mm,rotation_error_deg,flip\n";
+  csv << "config,size_m,distance_m,angle_deg,trial,ms,detected,corner_rms_px,position_error_mm,rotation_error_deg,"
+         "flip\n";
   cv::RNG rng(seed);
   const std::vector<double> sizes{0.05, 0.10}, distances{0.2, 0.3, 0.5, 0.75, 1.0, 1.5, 2.0};
   const int total = static_cast<int>(sizes.size() * distances.size()) * 8 * trials;
@@ -152,7 +153,8 @@ void sweep(const std::string& out_dir, int trials, uint64_t seed) {
             for (const auto& f : found) {
               if (f.id == m.id) d = &f;
             }
-            csv << list[c].name << "," << size << "," << distance << "," << angle_deg << "," << trial << "," << (d ? 1 : 0);
+            csv << list[c].name << "," << size << "," << distance << "," << angle_deg << "," << trial << "," << ms
+                << "," << (d ? 1 : 0);
             if (!d) {
               csv << ",,,,\n";
               continue;

@@ -43,6 +43,18 @@ for size in sizes:
         lines.append(f"| {c} | " + " | ".join(cells) + " |")
     lines.append("")
 
+# Stills: independent pictures of a 5 cm tag at 0.3-1.5 m turned up to 60 degrees, each a whole
+# 640x480 frame searched from scratch (a folder of photos).
+lines += ["## Stills: 5 cm tag, 0.3-1.5 m, 0-60 degrees, independent 640x480 pictures", "",
+          "| config | detected % | ms per picture, median |", "|---|---|---|"]
+for c in configs:
+    sel = [r for r in rows if r["config"] == c and float(r["size_m"]) == 0.05 and 0.3 <= float(r["distance_m"]) <= 1.5
+           and int(r["angle_deg"]) <= 60]
+    ms = [float(r["ms"]) for r in sel if r.get("ms")]
+    lines.append(f"| {c} | {pct([int(r['detected']) for r in sel]):.1f} | "
+                 f"{statistics.median(ms) if ms else float('nan'):.2f} |")
+lines.append("")
+
 # Pose error on the common set (views every configuration detected).
 by_view = defaultdict(dict)
 for r in rows:
