@@ -138,9 +138,9 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   ASSERT_EQ(run.exit_code, 0) << run.out;
   const auto sequence = read_csv(out + "/track_sequence.csv");
   EXPECT_EQ(values_of(sequence, "config"),
-            (std::set<std::string>{"apriltag_d1", "apriltag_d2", "apriltag_d2_raw", "apriltag_d4", "apriltag_roi",
-                                   "aruco_subpix", "aruco_subpix_raw", "aruco_t20", "aruco_roi", "aruco_roi_t20",
-                                   "aruco_roi_t20_c4", "visp_d1", "visp_d2"}));
+            (std::set<std::string>{"apriltag_d1", "apriltag_d2", "apriltag_d2_raw", "apriltag_d4", "apriltag_cand",
+                                   "apriltag_roi", "aruco_subpix", "aruco_subpix_raw", "aruco_t20", "aruco_roi",
+                                   "aruco_roi_t20", "aruco_roi_t20_c4", "visp_d1", "visp_d2"}));
   const auto full = rows_where(sequence, "config", "apriltag_d1");
   ASSERT_EQ(full.size(), 1u);
   EXPECT_EQ(number(full[0], "recall_vs_d1"), 1.0);
@@ -182,6 +182,9 @@ TEST(BenchmarksSmoke, TrackerBenchmarkRunsEveryDetectorWithGroundTruth) {
   EXPECT_GE(photo("apriltag_d1", "found"), 44);
   EXPECT_LT(photo("apriltag_d1", "reprojection_median_px"), photo("apriltag_d1_reference", "reprojection_median_px"));
   EXPECT_LT(photo("aruco_subpix", "reprojection_median_px"), 0.5);
+  // The candidate search on real photos: most of what decimation 1 finds, beyond decimation 2.
+  EXPECT_GE(photo("apriltag_cand", "found"), 40);
+  EXPECT_GT(photo("apriltag_cand", "found"), photo("apriltag_d2", "found"));
   std::filesystem::remove_all(out);
 }
 

@@ -45,6 +45,7 @@ std::vector<Config> configs() {
       {"apriltag_d2", {"apriltag", {"tag36h11"}, {{"decimate", "2"}}}, true},
       {"apriltag_d2_raw", {"apriltag", {"tag36h11"}, {{"decimate", "2"}}}, false},
       {"apriltag_d4", {"apriltag", {"tag36h11"}, {{"decimate", "4"}}}, true},
+      {"apriltag_cand", {"apriltag", {"tag36h11"}, {{"candidate_search", "1"}}}, true},
       {"apriltag_roi", {"apriltag", {"tag36h11"}, {{"roi_tracking", "1"}}}, true, true},
       {"aruco_subpix", {"aruco", {"tag36h11"}, {{"corner_refinement", "subpix"}}}, true},
       {"aruco_subpix_raw", {"aruco", {"tag36h11"}, {{"corner_refinement", "subpix"}}}, false},

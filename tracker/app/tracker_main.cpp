@@ -3,8 +3,8 @@
 // at run time by a tracker_control_t message), object poses out on LCM, optionally as
 // JSON lines or a human summary on stdout. See tracker/pipeline/tracker_pipeline.hpp.
 #include <CLI/CLI.hpp>
-
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
 #include "configs/loader/camera_config.hpp"
@@ -23,6 +23,16 @@ std::pair<std::string, std::string> split_param(const std::string& text) {
     throw std::invalid_argument("--param '" + text + "': expected NAME=VALUE (e.g. decimate=2)");
   }
   return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+// A folder holds independent pictures: apriltag searches them by candidate quads at full
+// resolution (decimation 1's recall at a fifth of its cost, docs/tracker.md) unless the
+// user chose the detector's parameters, or a family has no OpenCV dictionary to find quads.
+void default_params_for_source(const std::string& source, DetectorSpec& spec) {
+  if (spec.implementation != "apriltag" || !spec.params.empty() || !std::filesystem::is_directory(source)) return;
+  for (const auto& family : spec.families)
+    if (family != "tag16h5" && family != "tag25h9" && family != "tag36h10" && family != "tag36h11") return;
+  spec.params.push_back({"candidate_search", "1"});
 }
 
 }  // namespace
@@ -49,7 +59,8 @@ int main(int argc, char** argv) {
   app.add_option("--param", params,
                  "detector parameter NAME=VALUE, repeatable. apriltag: decimate, sigma, "
                  "refine_edges, sharpening, threads, max_hamming, roi_tracking, coarse_decimate, "
-                 "scan_tiles, coarse_every; aruco: corner_refinement, subpix_window, aruco3, "
+                 "scan_tiles, coarse_every, candidate_search (default 1 for an image folder); aruco: "
+                 "corner_refinement, subpix_window, aruco3, "
                  "min_marker_fraction, canonical_px, threshold_step, roi_tracking, coarse_decimate, "
                  "scan_tiles, coarse_every");
   app.add_option("--fps", run.fps, "frame rate of an image folder, for its capture times")->check(CLI::PositiveNumber)
@@ -97,6 +108,7 @@ int main(int argc, char** argv) {
     spec.implementation = impl;
     spec.families = families.empty() ? families_of(model) : families;
     for (const auto& p : params) spec.params.push_back(split_param(p));
+    default_params_for_source(run.source, spec);
     TrackerOptions options;
     options.predict_s = predict_s;
     options.max_fit_rms_px = max_fit_px;

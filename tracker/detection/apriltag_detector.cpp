@@ -52,6 +52,7 @@ std::string AprilTagDetector::describe() const {
   for (size_t i = 0; i < families_.size(); ++i) out << (i ? "," : "") << families_[i].name();
   out << " decimate=" << decimate_ << " sigma=" << detector_->quad_sigma << " refine_edges=" << detector_->refine_edges
       << " threads=" << detector_->nthreads;
+  if (candidates_) out << " candidate_search=1";
   if (roi_tracking_)
     out << " roi_tracking=1 coarse_decimate=" << coarse_decimate_ << " scan_tiles=" << search_.scan_tiles()
         << " coarse_every=" << search_.coarse_every();
@@ -85,10 +86,12 @@ void AprilTagDetector::set_param(const std::string& name, const std::string& val
     search_.set_scan_tiles(parse_param_int(name, value, 0, 256));
   } else if (name == "coarse_every") {
     search_.set_coarse_every(parse_param_int(name, value, 1, 30));
+  } else if (name == "candidate_search") {
+    candidates_.reset(parse_param_bool(name, value) ? new QuadCandidates(families()) : nullptr);
   } else {
     throw std::invalid_argument("apriltag has no parameter '" + name +
                                 "' (expected decimate, sigma, refine_edges, sharpening, threads, max_hamming, "
-                                "roi_tracking, coarse_decimate, scan_tiles, coarse_every)");
+                                "roi_tracking, coarse_decimate, scan_tiles, coarse_every, candidate_search)");
   }
 }
 
@@ -121,17 +124,41 @@ std::vector<DetectedMarker> AprilTagDetector::detect(const cv::Mat& gray) {
   if (gray.empty() || gray.type() != CV_8UC1) {
     throw std::invalid_argument("AprilTagDetector::detect: expected a non-empty 8-bit single-channel image");
   }
-  if (!roi_tracking_) return detect_region(detector_, gray, cv::Rect(0, 0, gray.cols, gray.rows));
-  return detect_predictive(gray);
+  if (roi_tracking_) return detect_predictive(gray);
+  if (candidates_) return detect_candidates(gray);
+  return detect_region(detector_, gray, cv::Rect(0, 0, gray.cols, gray.rows));
 }
 
-std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& gray) {
+apriltag_detector* AprilTagDetector::fine_detector() {
   if (!fine_detector_) {
     fine_detector_ = create_detector(fine_families_, families());
     fine_detector_->quad_decimate = 1.0f;
   }
   fine_detector_->quad_sigma = detector_->quad_sigma;
   fine_detector_->decode_sharpening = detector_->decode_sharpening;
+  fine_detector_->refine_edges = detector_->refine_edges;
+  return fine_detector_;
+}
+
+std::vector<DetectedMarker> AprilTagDetector::detect_candidates(const cv::Mat& gray) {
+  apriltag_detector* fine = fine_detector();
+  std::vector<DetectedMarker> found;
+  for (const cv::Rect& window : candidates_->windows(gray)) {
+    // A large window holds a large marker: half resolution finds it.
+    fine->quad_decimate = std::max(window.width, window.height) > 120 ? 2.0f : 1.0f;
+    for (DetectedMarker& m : detect_region(fine, gray, window)) {
+      // Windows overlap: a marker found twice is kept once.
+      const auto same = [&](const DetectedMarker& f) {
+        return f.id == m.id && f.family == m.family && (f.corners_px[0] - m.corners_px[0]).norm() < 2.0;
+      };
+      if (std::none_of(found.begin(), found.end(), same)) found.push_back(std::move(m));
+    }
+  }
+  return found;
+}
+
+std::vector<DetectedMarker> AprilTagDetector::detect_predictive(const cv::Mat& gray) {
+  fine_detector();
   return search_.detect(
       gray, [this](const cv::Mat& g) { return detect_region(detector_, g, cv::Rect(0, 0, g.cols, g.rows)); },
       [this](const cv::Mat& g, const cv::Rect& region, int decimation) {

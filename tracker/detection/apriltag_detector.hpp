@@ -6,6 +6,7 @@
 #include "tracker/detection/apriltag_family_handle.hpp"
 #include "tracker/detection/marker_detector.hpp"
 #include "tracker/detection/predictive_search.hpp"
+#include "tracker/detection/quad_candidates.hpp"
 
 struct apriltag_detector;
 
@@ -21,6 +22,11 @@ namespace arphys::tracking {
 // runs at coarse_decimate (default 4: finds markers of >= ~60 px anywhere), windows and
 // scan tiles (scan_tiles, default 64) at full or half resolution. reset_prediction()
 // forgets the previous frame (independent pictures).
+//
+// Candidate search (candidate_search = 1, for stills; quad_candidates.hpp): the quads
+// OpenCV's ArUco finds on the whole frame, each searched by libapriltag at full resolution
+// (decimation 2 for windows over 120 px); for families OpenCV has (tag16h5, tag25h9,
+// tag36h10, tag36h11).
 //
 // Corners come out in OpenCV's convention: libapriltag puts pixel centres at (0.5, 0.5)
 // (apriltag issue #121), so 0.5 px is subtracted from each coordinate.
@@ -39,6 +45,8 @@ class AprilTagDetector final : public MarkerDetector {
  private:
   std::vector<DetectedMarker> detect_region(apriltag_detector* detector, const cv::Mat& gray, const cv::Rect& region);
   std::vector<DetectedMarker> detect_predictive(const cv::Mat& gray);
+  std::vector<DetectedMarker> detect_candidates(const cv::Mat& gray);
+  apriltag_detector* fine_detector();
 
   std::vector<AprilTagFamilyHandle> families_;
   apriltag_detector* detector_ = nullptr;       // full frame at `decimate`, or coarse in ROI mode
@@ -48,6 +56,7 @@ class AprilTagDetector final : public MarkerDetector {
   bool roi_tracking_ = false;
   double coarse_decimate_ = 4.0;
   PredictiveSearch search_;
+  std::unique_ptr<QuadCandidates> candidates_;  // candidate search, when on
 };
 
 }  // namespace arphys::tracking
