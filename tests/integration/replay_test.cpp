@@ -1,7 +1,7 @@
 // Record and replay: a short synthetic run (camera + tracker) is recorded with
 // lcm-logger through the launcher, then its tracked poses are played twice with
 // lcm-logplayer into a fresh simulator (clock from the messages): the two runs give
-// identical world states, bit for bit.
+// identical world states, bit for bit; and so does arphys-replay's.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -30,7 +30,8 @@ int run(const std::string& command) {
 // World states keyed by simulation time: the bodies' poses as published.
 using Trace = std::map<double, std::vector<std::array<double, 7>>>;
 
-Trace replay_once(const std::string& log) {
+// player: the command that plays the log's tracked poses onto kReplayUrl.
+Trace replay_once(const std::string& player_command) {
   arphys::msg::Bus bus(kReplayUrl);
   Trace trace;
   bus.subscribe<arphys::world_state_t>("ARPHYS_WORLD_STATE", [&](const arphys::world_state_t& m,
@@ -49,7 +50,7 @@ Trace replay_once(const std::string& log) {
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
   std::atomic<bool> played{false};
   std::thread player([&] {
-    run("lcm-logplayer -e ARPHYS_OBJECT_POSES --lcm-url=" + kReplayUrl + " " + log);
+    run(player_command);
     played = true;
   });
   // Until the player has played the log (in real time: about 3 s; it used to be a fixed 8 s).
@@ -75,8 +76,10 @@ TEST(Replay, TwoReplaysOfARecordingGiveIdenticalWorldStates) {
   const std::string log = out + "/run.lcmlog";
   ASSERT_TRUE(std::filesystem::exists(log));
 
-  const Trace first = replay_once(log);
-  const Trace second = replay_once(log);
+  const Trace first = replay_once("lcm-logplayer -e ARPHYS_OBJECT_POSES --lcm-url=" + kReplayUrl + " " + log);
+  const Trace second = replay_once("lcm-logplayer -e ARPHYS_OBJECT_POSES --lcm-url=" + kReplayUrl + " " + log);
+  const Trace ours = replay_once(std::string(ARPHYS_BINARY_DIR) + "/tools/replay/arphys-replay --channels " +
+                                 "ARPHYS_OBJECT_POSES --lcm-url " + kReplayUrl + " " + log + " < /dev/null");
   ASSERT_GT(first.size(), 100u);  // 3 s of tracking at 50 steps per second
   EXPECT_EQ(first.size(), second.size());
   int compared = 0, different = 0;
@@ -88,6 +91,17 @@ TEST(Replay, TwoReplaysOfARecordingGiveIdenticalWorldStates) {
   }
   EXPECT_GE(compared, static_cast<int>(first.size()) - 2);
   EXPECT_EQ(different, 0);
+  // arphys-replay plays the same events in the same order: the same world states.
+  EXPECT_EQ(ours.size(), first.size());
+  int ours_compared = 0, ours_different = 0;
+  for (const auto& [t, bodies] : first) {
+    const auto other = ours.find(t);
+    if (other == ours.end()) continue;
+    ++ours_compared;
+    if (bodies != other->second) ++ours_different;
+  }
+  EXPECT_GE(ours_compared, static_cast<int>(first.size()) - 2);
+  EXPECT_EQ(ours_different, 0);
   // The tracked box moved: the replay drove the simulator, not the scene's initial pose.
   const auto& box_start = first.begin()->second;
   const auto& box_end = first.rbegin()->second;
