@@ -126,6 +126,18 @@ int main(int argc, char** argv) {
                static_cast<long long>(player->events()), player->duration_s(), url.c_str(),
                keys.on ? " (keys: space n [ ] - + q)" : "");
   const double started = now_s();
+  const auto publish_status = [&](double t) {
+    arphys::process_status_t status = msg::heartbeat("replay", log, t - started, *bus);
+    status.state = player->finished() ? "finished" : player->paused() ? "paused" : "playing";
+    status.published = player->published();
+    status.rejected = refused;
+    msg::add_figure(status, "duration_s", player->duration_s());
+    msg::add_figure(status, "position_s", player->position_s());
+    msg::add_figure(status, "rate", player->rate());
+    msg::add_figure(status, "paused", player->paused() ? 1 : 0);
+    msg::add_figure(status, "commands", static_cast<double>(commands));
+    bus->publish(status_channel, status);
+  };
   if (!start_paused) player->resume(started);
   double last_status = -1, last_report = started;
   while (!g_stop && (hold || !player->finished())) {
@@ -148,16 +160,7 @@ int main(int argc, char** argv) {
     }
     const double t = now_s();
     if (t - last_status >= 1.0) {
-      arphys::process_status_t status = msg::heartbeat("replay", log, t - started, *bus);
-      status.state = player->finished() ? "finished" : player->paused() ? "paused" : "playing";
-      status.published = player->published();
-      status.rejected = refused;
-      msg::add_figure(status, "duration_s", player->duration_s());
-      msg::add_figure(status, "position_s", player->position_s());
-      msg::add_figure(status, "rate", player->rate());
-      msg::add_figure(status, "paused", player->paused() ? 1 : 0);
-      msg::add_figure(status, "commands", static_cast<double>(commands));
-      bus->publish(status_channel, status);
+      publish_status(t);
       last_status = t;
     }
     if (t - last_report >= 2.0) {
@@ -166,6 +169,7 @@ int main(int argc, char** argv) {
     }
     bus->handle_timeout_ms(static_cast<int>(std::clamp(wait_s * 1000, 0.0, 20.0)));
   }
+  publish_status(now_s());  // the last word: finished (or stopped) and where
   report(*player, log);
   return 0;
 }
