@@ -10,7 +10,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <thread>
 
 #include "arphys/world_state_t.hpp"
@@ -102,6 +104,23 @@ TEST(Replay, TwoReplaysOfARecordingGiveIdenticalWorldStates) {
   }
   EXPECT_GE(ours_compared, static_cast<int>(first.size()) - 2);
   EXPECT_EQ(ours_different, 0);
+  // The launcher replays the same log into a simulator of its own (arphys-launch --replay):
+  // every recorded tracking frame reaches a world state, and the run ends with the log.
+  const std::string replayed = out + "/replayed";
+  ASSERT_EQ(
+      run(std::string("ARPHYS_BUILD_DIR=") + ARPHYS_BINARY_DIR + " " + ARPHYS_SOURCE_DIR + "/tools/arphys-launch " +
+          ARPHYS_SOURCE_DIR + "/configs/scenes/bunny_box_table.yaml --replay " + log +
+          " --replay-what poses --only camera,simulator --duration 8 --lcm-url " + kReplayUrl + " --out " + replayed),
+      0);
+  std::ifstream report_file(replayed + "/latency.json");
+  std::stringstream report;
+  report << report_file.rdbuf();
+  const std::string text = report.str();
+  const auto count_of = [&](const std::string& stage) {
+    const auto at = text.find("\"count\"", text.find("\"" + stage + "\""));
+    return at == std::string::npos ? -1 : std::atoi(text.c_str() + text.find(':', at) + 1);
+  };
+  EXPECT_GE(count_of("pose_to_world_state"), 80) << text.substr(0, 400);  // 3 s of a 30 FPS camera: about 90
   // The tracked box moved: the replay drove the simulator, not the scene's initial pose.
   const auto& box_start = first.begin()->second;
   const auto& box_end = first.rbegin()->second;

@@ -27,6 +27,15 @@ void add_launch_options(CLI::App& app, LaunchOptions& o) {
   app.add_option("--out", o.out_dir, "write overlay.avi, latency.json, process logs (and run.lcmlog) here");
   app.add_flag("--restart", o.restart, "restart a process that dies (reported, counted) instead of stopping the run");
   app.add_flag("--record", o.record, "record all traffic with lcm-logger to OUT/run.lcmlog");
+  app.add_option("--replay", o.replay_log,
+                 "play this lcm-logger file (arphys-replay) instead of a camera, into fresh processes; the run ends "
+                 "with the log (give a --duration at least its length)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--replay-what", o.replay_what,
+                 "frames: the recorded camera frames, re-tracked; poses: the recorded tracked poses, into the "
+                 "simulator alone")
+      ->check(CLI::IsMember({"frames", "poses"}))
+      ->capture_default_str();
   app.add_option("--only", o.only, "comma-separated subset to start: camera,tracker,simulator,renderer (other machines "
                                    "run the rest)");
   app.add_option("--spawn-every", o.spawn_every_s,

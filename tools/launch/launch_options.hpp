@@ -17,6 +17,8 @@ struct LaunchOptions {
   std::string lcm_url;
   std::string tracking_policy;
   std::string build_dir;
+  std::string replay_log;              // an lcm-logger file played instead of a camera (arphys-replay)
+  std::string replay_what = "frames";  // frames (into tracker, simulator, renderer) or poses (into the simulator)
   double duration_s = 20;
   double spawn_every_s = 1.0;
   double renderer_wait_ms = 0;

@@ -35,7 +35,25 @@ std::vector<std::string> simulator_args(const LaunchOptions& o, const config::Sc
   if (o.catch_up_factor > 0) args.insert(args.end(), {"--catch-up-factor", std::to_string(o.catch_up_factor)});
   if (o.sim_max_lag_s > 0) args.insert(args.end(), {"--max-lag-s", std::to_string(o.sim_max_lag_s)});
   if (o.sim_threads > 1) args.insert(args.end(), {"--threads", std::to_string(o.sim_threads)});
+  // A replay steps to the recorded capture times: the same world states on every replay.
+  if (!o.replay_log.empty()) args.insert(args.end(), {"--clock", "messages"});
   return args;
+}
+
+// The replay in the camera's place: the recorded frames (with what the camera published
+// beside them) or only the tracked poses.
+std::vector<std::string> replay_args(const LaunchOptions& o, const config::SceneConfig& scene) {
+  const auto& ch = scene.channels;
+  const std::string channels =
+      o.replay_what == "poses" ? ch.object_poses : ch.camera_image + "|" + ch.camera_info + "|" + ch.ground_truth;
+  return {o.build_dir + "/tools/replay/arphys-replay",
+          o.replay_log,
+          "--lcm-url",
+          url_of(o, scene),
+          "--channels",
+          channels,
+          "--frame-channel",
+          o.replay_what == "poses" ? ch.object_poses : ch.camera_image};
 }
 
 std::vector<std::string> renderer_args(const LaunchOptions& o, const config::SceneConfig& scene,
@@ -73,8 +91,12 @@ std::vector<ProcessCommand> process_commands(const LaunchOptions& o, const confi
   }
   if (o.wanted("simulator")) commands.push_back({"simulator", simulator_args(o, scene, state_file)});
   if (o.wanted("renderer")) commands.push_back({"renderer", renderer_args(o, scene, script)});
-  if (o.wanted("tracker")) commands.push_back({"tracker", tracker_args(o, scene)});
-  if (script && o.wanted("camera")) {
+  const bool replaying = !o.replay_log.empty();
+  if (o.wanted("tracker") && !(replaying && o.replay_what == "poses"))
+    commands.push_back({"tracker", tracker_args(o, scene)});
+  if (replaying && o.wanted("camera")) {
+    commands.push_back({"camera", replay_args(o, scene)});
+  } else if (script && o.wanted("camera")) {
     commands.push_back({"camera", {o.build_dir + "/tools/synthetic_camera/arphys-synthetic-camera", script->file,
                                    "--lcm-url", url_of(o, scene), "--duration", std::to_string(o.duration_s)}});
   }

@@ -17,7 +17,8 @@ struct ProcessCommand {
 };
 
 // `script`: the synthetic camera's (nullptr for a real source); `state_file`: where the
-// simulator keeps its last world state, so that a restarted one resumes it.
+// simulator keeps its last world state, so that a restarted one resumes it. With a replay
+// log, arphys-replay takes the camera's place (and the tracker's too, replaying poses).
 std::vector<ProcessCommand> process_commands(const LaunchOptions& options, const config::SceneConfig& scene,
                                              const config::CameraScriptConfig* script, const std::string& state_file);
 

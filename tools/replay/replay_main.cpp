@@ -126,8 +126,13 @@ int main(int argc, char** argv) {
                static_cast<long long>(player->events()), player->duration_s(), url.c_str(),
                keys.on ? " (keys: space n [ ] - + q)" : "");
   const double started = now_s();
+  int64_t published_at_status = 0;
+  double status_at = started;
   const auto publish_status = [&](double t) {
     arphys::process_status_t status = msg::heartbeat("replay", log, t - started, *bus);
+    status.rate_hz = t > status_at ? (player->published() - published_at_status) / (t - status_at) : 0;
+    published_at_status = player->published();
+    status_at = t;
     status.state = player->finished() ? "finished" : player->paused() ? "paused" : "playing";
     status.published = player->published();
     status.rejected = refused;

@@ -57,5 +57,32 @@ TEST(ProcessCommands, RealSourceGoesToTheTrackerAndOnlyPicksProcesses) {
   EXPECT_FALSE(ends_by_itself("simulator", o));
 }
 
+// A replay takes the camera's place: the recorded frames into a fresh tracker, or the poses
+// into the simulator alone; the simulator steps to the recorded capture times.
+TEST(ProcessCommands, AReplayPlaysTheLogInTheCamerasPlace) {
+  const config::SceneConfig scene = box_scene();
+  const config::CameraScriptConfig script = config::load_camera_script(default_script_for(scene));
+  LaunchOptions o;
+  o.build_dir = "/b";
+  o.replay_log = "/logs/run.lcmlog";
+  auto commands = process_commands(o, scene, &script, "s.state");
+  std::vector<std::string> names;
+  for (const auto& c : commands) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"simulator", "renderer", "tracker", "camera"}));
+  EXPECT_TRUE(has(commands[0].args, "--clock", "messages"));
+  const auto& replay = commands.back().args;
+  EXPECT_EQ(replay[0], "/b/tools/replay/arphys-replay");
+  EXPECT_EQ(replay[1], "/logs/run.lcmlog");
+  EXPECT_TRUE(has(replay, "--channels",
+                  scene.channels.camera_image + "|" + scene.channels.camera_info + "|" + scene.channels.ground_truth));
+  o.replay_what = "poses";
+  commands = process_commands(o, scene, &script, "s.state");
+  names.clear();
+  for (const auto& c : commands) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"simulator", "renderer", "camera"}));
+  EXPECT_TRUE(has(commands.back().args, "--channels", scene.channels.object_poses));
+  EXPECT_TRUE(ends_by_itself("camera", o));
+}
+
 }  // namespace
 }  // namespace arphys::launch
