@@ -17,7 +17,9 @@ namespace {
 // A log of FRAME events every 100 ms from t = 0 and POSE events 50 ms after each, ten each,
 // the event's data its index in the log.
 std::string write_log() {
-  const std::string path = ::testing::TempDir() + "log_player_test.lcmlog";
+  // One file per test: ctest runs the tests of this file as parallel processes.
+  const std::string path = ::testing::TempDir() + "log_player_test_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".lcmlog";
   lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
   EXPECT_NE(log, nullptr);
   const int64_t t0 = 1'700'000'000'000'000;

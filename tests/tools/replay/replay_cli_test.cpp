@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <lcm/eventlog.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <functional>
@@ -21,11 +22,11 @@
 
 namespace {
 
-const std::string kUrl = "udpm://239.255.76.67:7988?ttl=0";  // a port of its own
+const std::string kUrl = "udpm://239.255.76.67:7986?ttl=0";  // a port of its own
 
 // 40 events on FRAME, 50 ms apart, each carrying its index.
 std::string write_log() {
-  const std::string path = ::testing::TempDir() + "replay_cli_test.lcmlog";
+  const std::string path = ::testing::TempDir() + "replay_cli_test_" + std::to_string(getpid()) + ".lcmlog";
   lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
   std::string channel = "FRAME";
   for (int k = 0; k < 40; ++k) {
