@@ -1,8 +1,8 @@
 #include "tools/launch/process_commands.hpp"
 
-#include <sstream>
-
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <sstream>
 
 namespace arphys::launch {
 
@@ -19,6 +19,8 @@ bool ends_by_itself(const std::string& name, const LaunchOptions& options) {
 }
 
 namespace {
+
+constexpr double kReplayRendererWaitMs = 100;
 
 std::string url_of(const LaunchOptions& o, const config::SceneConfig& scene) {
   return o.lcm_url.empty() ? scene.lcm_url : o.lcm_url;
@@ -60,7 +62,11 @@ std::vector<std::string> renderer_args(const LaunchOptions& o, const config::Sce
                                        const config::CameraScriptConfig* script) {
   std::vector<std::string> args{o.build_dir + "/renderer/app/renderer", "--scene", scene.file, "--lcm-url",
                                 url_of(o, scene), "--duration", lifetime_s(o)};
-  if (o.renderer_wait_ms > 0) args.insert(args.end(), {"--wait-ms", std::to_string(o.renderer_wait_ms)});
+  // A replay is not live: each frame waits for the world state computed from it (one frame
+  // behind, the replayed box was drawn 3.5 px off its image; its own, 2.3 px).
+  const double wait_ms =
+      o.replay_log.empty() ? o.renderer_wait_ms : std::max(o.renderer_wait_ms, kReplayRendererWaitMs);
+  if (wait_ms > 0) args.insert(args.end(), {"--wait-ms", std::to_string(wait_ms)});
   if (!o.out_dir.empty()) {
     args.insert(args.end(), {"--video", o.out_dir + "/overlay.avi", "--png-dir", o.out_dir + "/snapshots", "--png-every", "90"});
   }

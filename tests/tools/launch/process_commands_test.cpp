@@ -70,6 +70,7 @@ TEST(ProcessCommands, AReplayPlaysTheLogInTheCamerasPlace) {
   for (const auto& c : commands) names.push_back(c.name);
   EXPECT_EQ(names, (std::vector<std::string>{"simulator", "renderer", "tracker", "camera"}));
   EXPECT_TRUE(has(commands[0].args, "--clock", "messages"));
+  EXPECT_NE(std::find(commands[1].args.begin(), commands[1].args.end(), "--wait-ms"), commands[1].args.end());
   const auto& replay = commands.back().args;
   EXPECT_EQ(replay[0], "/b/tools/replay/arphys-replay");
   EXPECT_EQ(replay[1], "/logs/run.lcmlog");
