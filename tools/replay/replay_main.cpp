@@ -67,14 +67,13 @@ bool apply(replay::LogPlayer& player, const std::string& command, double value, 
   return true;
 }
 
-void report(const replay::LogPlayer& player, const std::string& log) {
+void report(const replay::LogPlayer& player) {
   std::fprintf(stderr, "arphys-replay: %s %.2f / %.2f s at %gx, %lld of %lld events\n",
                player.finished() ? "finished"
                : player.paused() ? "paused"
                                  : "playing",
                player.position_s(), player.duration_s(), player.rate(), static_cast<long long>(player.published()),
                static_cast<long long>(player.events()));
-  (void)log;
 }
 
 }  // namespace
@@ -148,20 +147,16 @@ int main(int argc, char** argv) {
   while (!g_stop && (hold || !player->finished())) {
     const double wait_s = player->play(now_s(), publish);
     for (int key; (key = keys.read_key()) >= 0;) {
-      const double t = now_s();
-      if (key == 'q')
-        g_stop = 1;
-      else if (key == ' ')
-        apply(*player, "toggle", 0, frame_channel, publish);
-      else if (key == 'n')
-        apply(*player, "step", 0, frame_channel, publish);
-      else if (key == '[' || key == ']')
-        player->seek(player->position_s() + (key == '[' ? -5 : 5), t);
-      else if (key == '-' || key == '+')
-        player->set_rate(std::clamp(player->rate() * (key == '-' ? 0.5 : 2), 1e-3, 1e3), t);
-      else
-        continue;
-      report(*player, log);
+      if (key == 'q') g_stop = 1;
+      const bool applied =
+          (key == ' ' && apply(*player, "toggle", 0, frame_channel, publish)) ||
+          (key == 'n' && apply(*player, "step", 0, frame_channel, publish)) ||
+          ((key == '[' || key == ']') &&
+           apply(*player, "seek", player->position_s() + (key == '[' ? -5 : 5), frame_channel, publish)) ||
+          ((key == '-' || key == '+') &&
+           apply(*player, "rate", std::clamp(player->rate() * (key == '-' ? 0.5 : 2), 1e-3, 1e3), frame_channel,
+                 publish));
+      if (applied) report(*player);
     }
     const double t = now_s();
     if (t - last_status >= 1.0) {
@@ -169,12 +164,12 @@ int main(int argc, char** argv) {
       last_status = t;
     }
     if (t - last_report >= 2.0) {
-      report(*player, log);
+      report(*player);
       last_report = t;
     }
     bus->handle_timeout_ms(static_cast<int>(std::clamp(wait_s * 1000, 0.0, 20.0)));
   }
   publish_status(now_s());  // the last word: finished (or stopped) and where
-  report(*player, log);
+  report(*player);
   return 0;
 }

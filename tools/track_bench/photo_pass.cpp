@@ -47,21 +47,10 @@ std::vector<Reference> read_references(const std::string& path) {
   return refs;
 }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return std::nan("");
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
-
 double max_corner_distance_px(const tracking::DetectedMarker& m, const Reference& r) {
   double worst = 0;
   for (int k = 0; k < 4; ++k) worst = std::max(worst, (m.corners_px[k] - r.corners_px[k]).norm());
   return worst;
-}
-
-std::unique_ptr<tracking::MarkerDetector> detector_for(const PhotoConfig& c) {
-  if (c.spec.implementation == "visp") return make_visp_apriltag(std::stod(c.spec.params.at(0).second));
-  return tracking::make_detector(c.spec);
 }
 
 }  // namespace
@@ -83,7 +72,7 @@ std::vector<PhotoFigures> photo_pass(const std::vector<PhotoConfig>& configs, co
   for (const PhotoConfig& config : configs) {
     PhotoFigures f;
     f.config = config.name;
-    auto detector = detector_for(config);
+    auto detector = make_bench_detector(config.spec);
     std::vector<double> ms, offsets, reprojection;
     for (const auto& [image, refs] : photos) {
       std::vector<tracking::DetectedMarker> found;

@@ -71,10 +71,7 @@ std::vector<Config> picture_configs() {
   return list;
 }
 
-std::unique_ptr<MarkerDetector> detector_for(const Config& c) {
-  if (c.spec.implementation == "visp") return bench::make_visp_apriltag(std::stod(c.spec.params.at(0).second));
-  return make_detector(c.spec);
-}
+std::unique_ptr<MarkerDetector> detector_for(const Config& c) { return bench::make_bench_detector(c.spec); }
 
 std::vector<std::unique_ptr<MarkerDetector>> make_detectors(const std::vector<Config>& list) {
   std::vector<std::unique_ptr<MarkerDetector>> detectors;
@@ -84,11 +81,7 @@ std::vector<std::unique_ptr<MarkerDetector>> make_detectors(const std::vector<Co
 
 double degrees(double rad) { return rad * 180.0 / M_PI; }
 
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
-}
+using bench::percentile;
 
 CameraModel bench_camera() {
   CameraModel camera;
@@ -325,14 +318,14 @@ void sequence(const std::string& out_dir, int frames, int repeats, const std::ve
 
 // The real photos, with the reference's own configuration first (apriltag at decimation 1,
 // corners unrefined) and each detector with and without the edge refinement.
-void photos(const std::string& out_dir, const std::string& folder, int repeats) {
+void photos(const std::string& out_dir, const std::string& folder, const std::string& camera_yaml, int repeats) {
   std::vector<bench::PhotoConfig> list{
       {"apriltag_d1_reference", {"apriltag", {"tag36h11"}, {{"decimate", "1"}, {"refine_edges", "0"}}}, false},
       {"apriltag_d1_raw", {"apriltag", {"tag36h11"}, {{"decimate", "1"}}}, false}};
   for (const auto& c : picture_configs())
     if (c.name != "apriltag_d4" && c.name != "aruco_t20") list.push_back({c.name, c.spec, c.refine});
   std::fprintf(stderr, "photos: %zu configurations on %s\n", list.size(), folder.c_str());
-  const auto figures = bench::photo_pass(list, folder, folder + "/../nominal_camera_799x533.yaml", repeats);
+  const auto figures = bench::photo_pass(list, folder, camera_yaml, repeats);
   std::ofstream csv(out_dir + "/track_photos.csv");
   csv << "config,references,found,extra,corner_offset_median_px,corner_offset_p90_px,reprojection_median_px,"
          "reprojection_p90_px,median_ms\n";
@@ -357,6 +350,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 1;
   bool quick = false, no_sweep = false;
   std::string photo_folder = std::string(ARPHYS_SOURCE_DIR) + "/tests/data/apriltag_photos";
+  std::string photo_camera = std::string(ARPHYS_SOURCE_DIR) + "/tests/data/nominal_camera_799x533.yaml";
   std::vector<std::string> only;
   app.add_option("--out", out, "output directory")->capture_default_str();
   app.add_option("--trials", trials, "random views per sweep cell")->capture_default_str();
@@ -367,6 +361,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-sweep", no_sweep, "only the sequence (and the photos)");
   app.add_option("--photos", photo_folder, "real photos with reference detections (NAME.jpg, NAME.txt)")
       ->capture_default_str();
+  app.add_option("--photos-camera", photo_camera, "the photos' camera file")->capture_default_str();
   std::vector<std::string> names;
   for (const auto& c : configs()) names.push_back(c.name);
   app.add_option("--config", only, "sequence: only these configurations (and apriltag_d1, the recall reference)")
@@ -383,6 +378,6 @@ int main(int argc, char** argv) {
     effects_sweep(out, trials, seed);
   }
   sequence(out, frames, repeats, only);
-  photos(out, photo_folder, repeats);
+  photos(out, photo_folder, photo_camera, repeats);
   return 0;
 }

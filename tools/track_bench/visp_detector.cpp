@@ -1,10 +1,12 @@
 #include "tools/track_bench/visp_detector.hpp"
 
-#include <cstring>
-#include <stdexcept>
-
 #include <visp3/core/vpImage.h>
 #include <visp3/detection/vpDetectorAprilTag.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
 
 namespace arphys::bench {
 namespace {
@@ -52,6 +54,17 @@ class VispAprilTag : public tracking::MarkerDetector {
 
 std::unique_ptr<tracking::MarkerDetector> make_visp_apriltag(double quad_decimate) {
   return std::make_unique<VispAprilTag>(quad_decimate);
+}
+
+std::unique_ptr<tracking::MarkerDetector> make_bench_detector(const tracking::DetectorSpec& spec) {
+  if (spec.implementation == "visp") return make_visp_apriltag(std::stod(spec.params.at(0).second));
+  return tracking::make_detector(spec);
+}
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return std::nan("");
+  std::sort(values.begin(), values.end());
+  return values[std::min(values.size() - 1, static_cast<size_t>(p * (values.size() - 1) + 0.5))];
 }
 
 }  // namespace arphys::bench

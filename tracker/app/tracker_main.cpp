@@ -11,6 +11,7 @@
 #include "configs/loader/scene_config.hpp"
 #include "tracker/app/live_tracker.hpp"
 #include "tracker/detection/marker_detector.hpp"
+#include "tracker/detection/marker_family.hpp"
 
 namespace {
 
@@ -31,7 +32,7 @@ std::pair<std::string, std::string> split_param(const std::string& text) {
 void default_params_for_source(const std::string& source, DetectorSpec& spec) {
   if (spec.implementation != "apriltag" || !spec.params.empty() || !std::filesystem::is_directory(source)) return;
   for (const auto& family : spec.families)
-    if (family != "tag16h5" && family != "tag25h9" && family != "tag36h10" && family != "tag36h11") return;
+    if (!has_aruco_dictionary(family)) return;
   spec.params.push_back({"candidate_search", "1"});
 }
 

@@ -14,6 +14,9 @@ namespace arphys::tracking {
 
 namespace {
 
+// Candidate windows wider than this are searched at half resolution (candidate_search).
+constexpr int kHalfResolutionWindowPx = 120;
+
 apriltag_detector_t* create_detector(std::vector<AprilTagFamilyHandle>& families, const std::vector<std::string>& names) {
   apriltag_detector_t* detector = apriltag_detector_create();
   for (const auto& name : names) {
@@ -87,7 +90,7 @@ void AprilTagDetector::set_param(const std::string& name, const std::string& val
   } else if (name == "coarse_every") {
     search_.set_coarse_every(parse_param_int(name, value, 1, 30));
   } else if (name == "candidate_search") {
-    candidates_.reset(parse_param_bool(name, value) ? new QuadCandidates(families()) : nullptr);
+    candidates_ = parse_param_bool(name, value) ? std::make_unique<QuadCandidates>(families()) : nullptr;
   } else {
     throw std::invalid_argument("apriltag has no parameter '" + name +
                                 "' (expected decimate, sigma, refine_edges, sharpening, threads, max_hamming, "
@@ -145,7 +148,7 @@ std::vector<DetectedMarker> AprilTagDetector::detect_candidates(const cv::Mat& g
   std::vector<DetectedMarker> found;
   for (const cv::Rect& window : candidates_->windows(gray)) {
     // A large window holds a large marker: half resolution finds it.
-    fine->quad_decimate = std::max(window.width, window.height) > 120 ? 2.0f : 1.0f;
+    fine->quad_decimate = std::max(window.width, window.height) > kHalfResolutionWindowPx ? 2.0f : 1.0f;
     for (DetectedMarker& m : detect_region(fine, gray, window)) {
       // Windows overlap: a marker found twice is kept once.
       const auto same = [&](const DetectedMarker& f) {

@@ -39,6 +39,11 @@ const std::map<std::string, int>& aruco_dictionaries() {
   return table;
 }
 
+// OpenCV's DICT_APRILTAG_* names are keyed by apriltag's family names.
+std::string dictionary_key(const std::string& family) {
+  return family.rfind("DICT_APRILTAG_", 0) == 0 ? "tag" + family.substr(14) : family;
+}
+
 }  // namespace
 
 std::vector<std::string> apriltag_family_names() { return AprilTagFamilyHandle::names(); }
@@ -48,16 +53,15 @@ bool is_apriltag_family(const std::string& family) {
   return std::find(names.begin(), names.end(), family) != names.end();
 }
 
+bool has_aruco_dictionary(const std::string& family) { return aruco_dictionaries().count(dictionary_key(family)) > 0; }
+
 int aruco_dictionary_id(const std::string& family) {
-  std::string key = family;
-  if (key.rfind("DICT_APRILTAG_", 0) == 0) key = "tag" + key.substr(14);
-  const auto it = aruco_dictionaries().find(key);
-  if (it == aruco_dictionaries().end()) {
+  if (!has_aruco_dictionary(family)) {
     throw std::invalid_argument("marker family '" + family +
                                 "' is not an OpenCV ArUco dictionary (expected DICT_4X4_50 ... DICT_7X7_1000, "
                                 "DICT_ARUCO_ORIGINAL, or tag16h5/tag25h9/tag36h10/tag36h11)");
   }
-  return it->second;
+  return aruco_dictionaries().at(dictionary_key(family));
 }
 
 cv::Mat marker_cells_image(const std::string& family, int id, int* side_cells_black) {

@@ -18,6 +18,8 @@ bool is_apriltag_family(const std::string& family);
 // The OpenCV predefined dictionary id for a family name (apriltag or DICT_* name);
 // throws std::invalid_argument naming the family when OpenCV has none.
 int aruco_dictionary_id(const std::string& family);
+// Whether OpenCV has a dictionary for the family (aruco_dictionary_id does not throw).
+bool has_aruco_dictionary(const std::string& family);
 
 // The marker's image, one pixel per cell, 8-bit (0 black, 255 white), including a
 // white quiet zone of one cell around the outer black border. side_cells_black

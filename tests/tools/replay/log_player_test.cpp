@@ -3,13 +3,14 @@
 #include "tools/replay/log_player.hpp"
 
 #include <gtest/gtest.h>
-#include <lcm/eventlog.h>
 
 #include <cmath>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "tests/tools/replay/test_log.hpp"
 
 namespace arphys::replay {
 namespace {
@@ -20,21 +21,7 @@ std::string write_log() {
   // One file per test: ctest runs the tests of this file as parallel processes.
   const std::string path = ::testing::TempDir() + "log_player_test_" +
                            ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".lcmlog";
-  lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
-  EXPECT_NE(log, nullptr);
-  const int64_t t0 = 1'700'000'000'000'000;
-  for (int k = 0; k < 20; ++k) {
-    std::string channel = k % 2 == 0 ? "FRAME" : "POSE";
-    uint8_t data = static_cast<uint8_t>(k);
-    lcm_eventlog_event_t e{};
-    e.timestamp = t0 + k * 50'000;
-    e.channellen = static_cast<int32_t>(channel.size());
-    e.channel = channel.data();
-    e.datalen = 1;
-    e.data = &data;
-    lcm_eventlog_write_event(log, &e);
-  }
-  lcm_eventlog_destroy(log);
+  testing::write_test_log(path, 20, [](int k) { return k % 2 == 0 ? "FRAME" : "POSE"; });
   return path;
 }
 

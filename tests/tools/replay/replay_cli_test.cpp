@@ -3,7 +3,6 @@
 // a repeated command is dropped and counted, a resume at four times real time plays the rest
 // and the process ends with the log; its status carries the log's duration and position.
 #include <gtest/gtest.h>
-#include <lcm/eventlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,6 +18,7 @@
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "tests/support/spawn_process.hpp"
+#include "tests/tools/replay/test_log.hpp"
 
 namespace {
 
@@ -27,19 +27,7 @@ const std::string kUrl = "udpm://239.255.76.67:7986?ttl=0";  // a port of its ow
 // 40 events on FRAME, 50 ms apart, each carrying its index.
 std::string write_log() {
   const std::string path = ::testing::TempDir() + "replay_cli_test_" + std::to_string(getpid()) + ".lcmlog";
-  lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
-  std::string channel = "FRAME";
-  for (int k = 0; k < 40; ++k) {
-    uint8_t data = static_cast<uint8_t>(k);
-    lcm_eventlog_event_t e{};
-    e.timestamp = 1'700'000'000'000'000 + k * 50'000;
-    e.channellen = static_cast<int32_t>(channel.size());
-    e.channel = channel.data();
-    e.datalen = 1;
-    e.data = &data;
-    lcm_eventlog_write_event(log, &e);
-  }
-  lcm_eventlog_destroy(log);
+  arphys::replay::testing::write_test_log(path, 40, [](int) { return "FRAME"; });
   return path;
 }
 
