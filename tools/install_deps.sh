@@ -14,10 +14,13 @@ build=(
   libmeshoptimizer-dev                               # tools/models/decimate-quadric (collision meshes)
   libbullet-extras-dev libqhull-dev                  # tools/models/convex-decompose (HACD clusters, qhull hulls)
   libtbb-dev                                         # the simulator's worker threads (--threads)
+  libwebsocketpp-dev libboost-dev                    # arphys-view's Foxglove WebSocket server (Boost.Asio)
+  nodejs                                             # arphys-view's page: three.js from npm (tools/view/web)
 )
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
        clang-format                                                             # tools/check_format.py
-       libccd-dev)                                                              # the convex CCD's GJK oracle
+       libccd-dev                                                               # the convex CCD's GJK oracle
+       chromium)                                                                # the view page's screenshot test
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3
             libvisp-detection-dev)                                                     # the tracker benchmark's peer (ViSP 3.5)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
@@ -31,12 +34,26 @@ if [[ "${1:-}" == "-h" || "${1:-}" == "--help" ]]; then
   exit 0
 fi
 
+# The page's and the protocol test's node packages (tools/view/web/package-lock.json) from the
+# npm registry into tools/view/web/node_modules (not in the repository), when they changed.
+web_packages() {
+  local web
+  web="$(cd "$(dirname "$0")/view/web" && pwd)"
+  if [[ ! -f "$web/node_modules/.package-lock.json" || "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]]; then
+    echo "install_deps: npm packages for tools/view/web"
+    (cd "$web" && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+}
+
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
+# npm: Debian's package, unless a node install already brings its own.
+command -v npm >/dev/null || missing+=(npm)
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "install_deps: all ${#packages[@]} packages present"
+  web_packages
   exit 0
 fi
 echo "install_deps: installing ${#missing[@]} missing packages: ${missing[*]}"
@@ -45,3 +62,4 @@ sudo_cmd=()
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+web_packages

@@ -68,6 +68,11 @@ int main(int argc, char** argv) {
     if (command.name == "camera") std::this_thread::sleep_for(std::chrono::milliseconds(800));
     if (!children.start(command.name, command.args)) g_stop = true;
   }
+  if (children.find("view"))
+    std::printf(
+        "arphys-launch: the run in a browser at http://127.0.0.1:%d/ (Foxglove, Lichtblick: ws://127.0.0.1:%d)\n",
+        o.view_port, o.view_port);
+  std::fflush(stdout);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
 

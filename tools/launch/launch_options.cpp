@@ -36,8 +36,16 @@ void add_launch_options(CLI::App& app, LaunchOptions& o) {
                  "simulator alone")
       ->check(CLI::IsMember({"frames", "poses"}))
       ->capture_default_str();
-  app.add_option("--only", o.only, "comma-separated subset to start: camera,tracker,simulator,renderer (other machines "
-                                   "run the rest)");
+  app.add_option("--only", o.only,
+                 "comma-separated subset to start: camera,tracker,simulator,renderer,view (other "
+                 "machines run the rest)");
+  app.add_option_function<int>(
+         "--view", [&o](const int& port) { o.view_port = port; },
+         "serve the run to a browser and to Foxglove or Lichtblick (arphys-view) on this port, and publish the "
+         "overlay for it")
+      ->expected(0, 1)
+      ->default_str("8765")
+      ->check(CLI::Range(1, 65535));
   app.add_option("--spawn-every", o.spawn_every_s,
                  "spawn the scene's first dynamic virtual model every S seconds, thrown onto the table (0: none)")
       ->capture_default_str();

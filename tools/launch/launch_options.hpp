@@ -13,7 +13,7 @@ struct LaunchOptions {
   std::string tracker_impl = "apriltag";
   std::string tracker_filter = "constant_velocity";
   std::string out_dir;
-  std::string only;  // comma-separated subset of camera,tracker,simulator,renderer
+  std::string only;  // comma-separated subset of camera,tracker,simulator,renderer,view
   std::string lcm_url;
   std::string tracking_policy;
   std::string build_dir;
@@ -26,6 +26,7 @@ struct LaunchOptions {
   double catch_up_factor = 0;  // 0: the simulator's own default
   double receive_loss = 0;
   int sim_threads = 1;
+  int view_port = -1;  // arphys-view on this port (--view [PORT]); -1: none
   bool record = false;
   bool restart = false;
 

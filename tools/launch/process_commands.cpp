@@ -67,6 +67,7 @@ std::vector<std::string> renderer_args(const LaunchOptions& o, const config::Sce
   const double wait_ms =
       o.replay_log.empty() ? o.renderer_wait_ms : std::max(o.renderer_wait_ms, kReplayRendererWaitMs);
   if (wait_ms > 0) args.insert(args.end(), {"--wait-ms", std::to_string(wait_ms)});
+  if (o.view_port > 0) args.push_back("--overlay-lcm");  // the view's /overlay
   if (!o.out_dir.empty()) {
     args.insert(args.end(), {"--video", o.out_dir + "/overlay.avi", "--png-dir", o.out_dir + "/snapshots", "--png-every", "90"});
   }
@@ -97,6 +98,10 @@ std::vector<ProcessCommand> process_commands(const LaunchOptions& o, const confi
   }
   if (o.wanted("simulator")) commands.push_back({"simulator", simulator_args(o, scene, state_file)});
   if (o.wanted("renderer")) commands.push_back({"renderer", renderer_args(o, scene, script)});
+  if (o.view_port > 0 && o.wanted("view"))
+    commands.push_back({"view",
+                        {o.build_dir + "/tools/view/arphys-view", scene.file, "--lcm-url", url_of(o, scene), "--port",
+                         std::to_string(o.view_port)}});
   const bool replaying = !o.replay_log.empty();
   if (o.wanted("tracker") && !(replaying && o.replay_what == "poses"))
     commands.push_back({"tracker", tracker_args(o, scene)});

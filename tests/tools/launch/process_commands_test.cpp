@@ -85,5 +85,26 @@ TEST(ProcessCommands, AReplayPlaysTheLogInTheCamerasPlace) {
   EXPECT_TRUE(ends_by_itself("camera", o));
 }
 
+// --view starts arphys-view on the port, before the camera, and has the renderer publish its overlay.
+TEST(ProcessCommands, AViewServesTheRunAndGetsTheOverlay) {
+  const config::SceneConfig scene = box_scene();
+  const config::CameraScriptConfig script = config::load_camera_script(default_script_for(scene));
+  LaunchOptions o;
+  o.build_dir = "/b";
+  std::vector<ProcessCommand> commands = process_commands(o, scene, &script, "s.state");
+  for (const auto& c : commands) EXPECT_NE(c.name, "view");
+  EXPECT_EQ(std::find(commands[1].args.begin(), commands[1].args.end(), "--overlay-lcm"), commands[1].args.end());
+  o.view_port = 9001;
+  commands = process_commands(o, scene, &script, "s.state");
+  std::vector<std::string> names;
+  for (const auto& c : commands) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"simulator", "renderer", "view", "tracker", "camera"}));
+  EXPECT_NE(std::find(commands[1].args.begin(), commands[1].args.end(), "--overlay-lcm"), commands[1].args.end());
+  EXPECT_EQ(commands[2].args[0], "/b/tools/view/arphys-view");
+  EXPECT_TRUE(has(commands[2].args, "--port", "9001"));
+  EXPECT_TRUE(has(commands[2].args, "--lcm-url", scene.lcm_url));
+  EXPECT_FALSE(ends_by_itself("view", o));
+}
+
 }  // namespace
 }  // namespace arphys::launch

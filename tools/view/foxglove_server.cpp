@@ -1,0 +1,218 @@
+#include "tools/view/foxglove_server.hpp"
+
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <websocketpp/config/asio_no_tls.hpp>
+#include <websocketpp/server.hpp>
+
+namespace arphys::view {
+namespace {
+
+using Server = websocketpp::server<websocketpp::config::asio>;
+using Handle = websocketpp::connection_hdl;
+constexpr const char* kSubprotocol = "foxglove.websocket.v1";
+
+std::string file_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
+
+std::string content_type(const std::string& path) {
+  const auto ends = [&](const std::string& s) {
+    return path.size() >= s.size() && path.compare(path.size() - s.size(), s.size(), s) == 0;
+  };
+  if (ends(".html") || path == "/") return "text/html; charset=utf-8";
+  if (ends(".js") || ends(".mjs")) return "text/javascript";
+  if (ends(".obj")) return "model/obj";
+  return "application/octet-stream";
+}
+
+}  // namespace
+
+struct FoxgloveServer::Impl {
+  ServerOptions options;
+  std::vector<Topic> topics;
+  Server server;
+  std::thread thread;
+  // Per client (io thread only): subscription id by channel.
+  std::map<Handle, std::map<int, uint32_t>, std::owner_less<Handle>> clients;
+  std::vector<std::atomic<int>> subscribers;  // per channel, read by any thread
+  std::atomic<int64_t> clients_now{0}, clients_total{0}, sent{0}, dropped{0}, bad{0}, http{0}, refused{0};
+
+  Impl(ServerOptions o, std::vector<Topic> t)
+      : options(std::move(o)), topics(std::move(t)), subscribers(topics.size()) {}
+
+  void send_text(Handle h, const nlohmann::json& message) {
+    websocketpp::lib::error_code ec;
+    server.send(h, message.dump(), websocketpp::frame::opcode::text, ec);
+  }
+  void warn(Handle h, const std::string& why) {
+    ++bad;
+    send_text(h, {{"op", "status"}, {"level", 1}, {"message", why}});
+  }
+
+  void on_open(Handle h) {
+    clients[h];
+    ++clients_now;
+    ++clients_total;
+    send_text(h, {{"op", "serverInfo"},
+                  {"name", options.name},
+                  {"capabilities", nlohmann::json::array()},
+                  {"metadata", nlohmann::json::object()}});
+    nlohmann::json channels = nlohmann::json::array();
+    for (std::size_t k = 0; k < topics.size(); ++k)
+      channels.push_back({{"id", k},
+                          {"topic", topics[k].topic},
+                          {"encoding", "json"},
+                          {"schemaName", topics[k].schema_name},
+                          {"schema", topics[k].schema},
+                          {"schemaEncoding", "jsonschema"}});
+    send_text(h, {{"op", "advertise"}, {"channels", channels}});
+  }
+
+  void on_close(Handle h) {
+    const auto it = clients.find(h);
+    if (it == clients.end()) return;
+    for (const auto& [channel, id] : it->second) --subscribers[channel];
+    clients.erase(it);
+    --clients_now;
+  }
+
+  void subscribe(Handle h, std::map<int, uint32_t>& subs, const nlohmann::json& list) {
+    for (const nlohmann::json& s : list) {
+      const int channel = s.at("channelId").get<int>();
+      const uint32_t id = s.at("id").get<uint32_t>();
+      bool reused = false;
+      for (const auto& [c, existing] : subs) reused = reused || existing == id;
+      if (channel < 0 || channel >= static_cast<int>(topics.size()) || subs.count(channel) || reused) {
+        warn(h, "subscription " + std::to_string(id) + " to channel " + std::to_string(channel) + " refused");
+        continue;
+      }
+      subs[channel] = id;
+      ++subscribers[channel];
+    }
+  }
+
+  void on_message(Handle h, const Server::message_ptr& message) {
+    auto& subs = clients[h];
+    if (message->get_opcode() != websocketpp::frame::opcode::text) return warn(h, "binary messages are not taken");
+    try {
+      const nlohmann::json request = nlohmann::json::parse(message->get_payload());
+      const std::string op = request.at("op").get<std::string>();
+      if (op == "subscribe") return subscribe(h, subs, request.at("subscriptions"));
+      if (op != "unsubscribe") return warn(h, "op '" + op + "' is not supported (a read-only view)");
+      for (const nlohmann::json& id : request.at("subscriptionIds"))
+        for (auto it = subs.begin(); it != subs.end(); ++it)
+          if (it->second == id.get<uint32_t>()) {
+            --subscribers[it->first];
+            subs.erase(it);
+            break;
+          }
+    } catch (const std::exception& e) {
+      warn(h, std::string("malformed request: ") + e.what());
+    }
+  }
+
+  void on_http(Handle h) {
+    ++http;
+    const Server::connection_ptr con = server.get_con_from_hdl(h);
+    const std::string path = con->get_resource().substr(0, con->get_resource().find('?'));
+    const auto file = options.files.find(path);
+    if (path == "/" || file != options.files.end()) {
+      con->set_body(path == "/" ? options.index_html : file_text(file->second));
+      con->replace_header("Content-Type", content_type(path == "/" ? "/" : file->second));
+      con->replace_header("Access-Control-Allow-Origin", "*");  // Foxglove's web app fetches models cross-origin
+      con->set_status(websocketpp::http::status_code::ok);
+    } else {
+      con->set_body("not found: " + path + "\n");
+      con->set_status(websocketpp::http::status_code::not_found);
+    }
+  }
+
+  bool on_validate(Handle h) {
+    const Server::connection_ptr con = server.get_con_from_hdl(h);
+    for (const std::string& p : con->get_requested_subprotocols())
+      if (p == kSubprotocol) {
+        con->select_subprotocol(p);
+        return true;
+      }
+    ++refused;
+    return false;
+  }
+
+  void deliver(int channel, uint64_t time_ns, const std::string& payload) {
+    for (auto& [h, subs] : clients) {
+      const auto sub = subs.find(channel);
+      if (sub == subs.end()) continue;
+      websocketpp::lib::error_code ec;
+      const Server::connection_ptr con = server.get_con_from_hdl(h, ec);
+      if (ec || con->get_buffered_amount() > options.max_backlog_bytes) {
+        ++dropped;
+        continue;
+      }
+      server.send(h, message_data(sub->second, time_ns, payload), websocketpp::frame::opcode::binary, ec);
+      ec ? ++dropped : ++sent;
+    }
+  }
+};
+
+FoxgloveServer::FoxgloveServer(ServerOptions options, std::vector<Topic> topics)
+    : impl_(std::make_unique<Impl>(std::move(options), std::move(topics))) {
+  Impl& m = *impl_;
+  m.server.clear_access_channels(websocketpp::log::alevel::all);
+  m.server.clear_error_channels(websocketpp::log::elevel::all);
+  m.server.init_asio();
+  m.server.set_reuse_addr(true);
+  using std::placeholders::_1;
+  using std::placeholders::_2;
+  m.server.set_validate_handler(std::bind(&Impl::on_validate, &m, _1));
+  m.server.set_open_handler(std::bind(&Impl::on_open, &m, _1));
+  m.server.set_close_handler(std::bind(&Impl::on_close, &m, _1));
+  m.server.set_fail_handler(std::bind(&Impl::on_close, &m, _1));
+  m.server.set_message_handler(std::bind(&Impl::on_message, &m, _1, _2));
+  m.server.set_http_handler(std::bind(&Impl::on_http, &m, _1));
+  websocketpp::lib::error_code ec;
+  m.server.listen(m.options.host, std::to_string(m.options.port), ec);
+  if (!ec) m.server.start_accept(ec);
+  if (ec)
+    throw std::runtime_error("arphys-view: cannot listen on " + m.options.host + ":" + std::to_string(m.options.port) +
+                             ": " + ec.message() + " (another view running? choose --port)");
+  websocketpp::lib::asio::error_code asio_ec;
+  port_ = m.server.get_local_endpoint(asio_ec).port();
+  m.thread = std::thread([&m] { m.server.run(); });
+}
+
+FoxgloveServer::~FoxgloveServer() {
+  Impl& m = *impl_;
+  m.server.get_io_service().post([&m] {
+    websocketpp::lib::error_code ec;
+    m.server.stop_listening(ec);
+    for (auto& [h, subs] : m.clients) m.server.close(h, websocketpp::close::status::going_away, "server stopping", ec);
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  m.server.stop();
+  if (m.thread.joinable()) m.thread.join();
+}
+
+void FoxgloveServer::publish(int channel, uint64_t time_ns, std::string payload) {
+  if (channel < 0 || channel >= static_cast<int>(impl_->topics.size()) || impl_->subscribers[channel] == 0) return;
+  Impl* m = impl_.get();
+  m->server.get_io_service().post(
+      [m, channel, time_ns, payload = std::move(payload)] { m->deliver(channel, time_ns, payload); });
+}
+
+bool FoxgloveServer::subscribed(int channel) const {
+  return channel >= 0 && channel < static_cast<int>(impl_->topics.size()) && impl_->subscribers[channel] > 0;
+}
+
+ServerCounters FoxgloveServer::counters() const {
+  const Impl& m = *impl_;
+  return {m.clients_now, m.clients_total, m.sent, m.dropped, m.bad, m.http, m.refused};
+}
+
+}  // namespace arphys::view

@@ -1,0 +1,96 @@
+// arphys-view: the pipeline's LCM traffic served over the Foxglove WebSocket protocol, for
+// Foxglove, Lichtblick or any client of foxglove.websocket.v1 (docs/pipeline.md).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+
+#include "lcmtypes/msg/heartbeat.hpp"
+#include "tools/view/foxglove_server.hpp"
+#include "tools/view/view_relay.hpp"
+
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+
+double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace arphys;
+  CLI::App app{
+      "arphys-view: serves a run's camera frames, overlay, world, transforms, status and latency over\n"
+      "the Foxglove WebSocket protocol (foxglove.websocket.v1, JSON) at ws://HOST:PORT/."};
+  std::string scene_path = config::default_config_dir() + "/scenes/bunny_box_table.yaml", url;
+  view::ServerOptions server_options;
+  view::RelayOptions relay_options;
+  std::string web_dir = ARPHYS_VIEW_WEB_DIR;
+  app.add_option("scene", scene_path, "scene YAML file (its channels and body shapes)")->capture_default_str();
+  app.add_option("--port", server_options.port, "TCP port (0: any free one)")->capture_default_str();
+  app.add_option("--host", server_options.host, "address to listen on")->capture_default_str();
+  app.add_option("--lcm-url", url, "LCM URL (default: the scene's)");
+  app.add_option("--image-rate-hz", relay_options.image_rate_hz, "most camera and overlay frames a second sent")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option_function<double>(
+         "--max-backlog-mb",
+         [&](const double& mb) { server_options.max_backlog_bytes = static_cast<std::size_t>(mb * 1e6); },
+         "a client with more than this queued is sent nothing until it drains (counted)")
+      ->check(CLI::PositiveNumber)
+      ->default_str("8");
+  app.add_option("--web-dir", web_dir, "the page's files (index.html, its script, node_modules/three)")
+      ->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  std::unique_ptr<view::ViewRelay> relay;
+  std::unique_ptr<view::FoxgloveServer> server;
+  std::unique_ptr<msg::Bus> bus;
+  try {
+    const config::SceneConfig scene = config::load_scene(scene_path);
+    bus = std::make_unique<msg::Bus>(url.empty() ? scene.lcm_url : url);
+    relay = std::make_unique<view::ViewRelay>(scene, relay_options);
+    server_options.files = relay->files("/models/");
+    server_options.index_html = view::page(web_dir, scene.name, server_options.files);
+    server = std::make_unique<view::FoxgloveServer>(server_options, view::topics());
+    relay->set_model_url_prefix("http://" + server_options.host + ":" + std::to_string(server->port()) + "/models/");
+    relay->subscribe(*bus, *server);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arphys-view: %s\n", e.what());
+    return 2;
+  }
+  std::signal(SIGINT, [](int) { g_stop = 1; });
+  std::signal(SIGTERM, [](int) { g_stop = 1; });
+  std::printf("arphys-view: http://%s:%d/ (the page; ws:// for Foxglove and Lichtblick, foxglove.websocket.v1)\n",
+              server_options.host.c_str(), server->port());
+  std::fflush(stdout);
+  const double started = now_s();
+  double last_status = started;
+  int64_t sent_at_status = 0;
+  while (!g_stop) {
+    bus->handle_timeout_ms(100);
+    if (const double t = now_s(); t - last_status >= 1.0) {
+      const view::ServerCounters c = server->counters();
+      process_status_t status = msg::heartbeat("view", "foxglove.websocket.v1", t - started, *bus);
+      status.state = "serving";
+      status.rate_hz = (c.sent - sent_at_status) / (t - last_status);
+      sent_at_status = c.sent;
+      status.published = c.sent;
+      status.dropped = c.dropped_backlog + relay->rate_limited();
+      status.rejected = c.bad_requests + c.refused_handshakes + relay->refused();
+      msg::add_figure(status, "clients", static_cast<double>(c.clients_now));
+      msg::add_figure(status, "clients_total", static_cast<double>(c.clients_total));
+      msg::add_figure(status, "port", server->port());
+      msg::add_figure(status, "dropped_slow_clients", static_cast<double>(c.dropped_backlog));
+      bus->publish(relay->status_channel(), status);
+      last_status = t;
+    }
+  }
+  const view::ServerCounters c = server->counters();
+  std::fprintf(stderr,
+               "arphys-view: %lld clients, %lld messages sent, %lld dropped for slow clients, %lld bad requests, "
+               "%lld inputs refused\n",
+               static_cast<long long>(c.clients_total), static_cast<long long>(c.sent),
+               static_cast<long long>(c.dropped_backlog), static_cast<long long>(c.bad_requests),
+               static_cast<long long>(relay->refused()));
+  return 0;
+}
