@@ -42,10 +42,12 @@ void add_launch_options(CLI::App& app, LaunchOptions& o) {
   app.add_option_function<int>(
          "--view", [&o](const int& port) { o.view_port = port; },
          "serve the run to a browser and to Foxglove or Lichtblick (arphys-view) on this port, and publish the "
-         "overlay for it")
+         "overlay for it (with --replay, the page drives the replay)")
       ->expected(0, 1)
       ->default_str("8765")
       ->check(CLI::Range(1, 65535));
+  app.add_flag("--view-allow-spawn", o.view_allow_spawn,
+               "let the view's clients (the page's spawn button) spawn the scene's models (arphys-view --allow-spawn)");
   app.add_option("--spawn-every", o.spawn_every_s,
                  "spawn the scene's first dynamic virtual model every S seconds, thrown onto the table (0: none)")
       ->capture_default_str();

@@ -28,6 +28,7 @@ struct LaunchOptions {
   int sim_threads = 1;
   int view_port = -1;  // arphys-view on this port (--view [PORT]); -1: none
   bool record = false;
+  bool view_allow_spawn = false;  // arphys-view --allow-spawn: the page's spawn button
   bool restart = false;
 
   // Whether the process `name` is started here (--only).

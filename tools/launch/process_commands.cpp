@@ -98,10 +98,13 @@ std::vector<ProcessCommand> process_commands(const LaunchOptions& o, const confi
   }
   if (o.wanted("simulator")) commands.push_back({"simulator", simulator_args(o, scene, state_file)});
   if (o.wanted("renderer")) commands.push_back({"renderer", renderer_args(o, scene, script)});
-  if (o.view_port > 0 && o.wanted("view"))
+  if (o.view_port > 0 && o.wanted("view")) {
     commands.push_back({"view",
                         {o.build_dir + "/tools/view/arphys-view", scene.file, "--lcm-url", url_of(o, scene), "--port",
                          std::to_string(o.view_port)}});
+    if (o.view_allow_spawn) commands.back().args.push_back("--allow-spawn");
+    if (!o.replay_log.empty()) commands.back().args.push_back("--allow-replay-control");  // the page drives the replay
+  }
   const bool replaying = !o.replay_log.empty();
   if (o.wanted("tracker") && !(replaying && o.replay_what == "poses"))
     commands.push_back({"tracker", tracker_args(o, scene)});

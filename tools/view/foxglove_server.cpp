@@ -1,5 +1,6 @@
 #include "tools/view/foxglove_server.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -39,10 +40,14 @@ struct FoxgloveServer::Impl {
   std::vector<Topic> topics;
   Server server;
   std::thread thread;
-  // Per client (io thread only): subscription id by channel.
-  std::map<Handle, std::map<int, uint32_t>, std::owner_less<Handle>> clients;
+  // Per client (io thread only): subscription id by channel, and its advertised topics by channel id.
+  struct Client {
+    std::map<int, uint32_t> subs;
+    std::map<uint32_t, std::string> published;
+  };
+  std::map<Handle, Client, std::owner_less<Handle>> clients;
   std::vector<std::atomic<int>> subscribers;  // per channel, read by any thread
-  std::atomic<int64_t> clients_now{0}, clients_total{0}, sent{0}, dropped{0}, bad{0}, http{0}, refused{0};
+  std::atomic<int64_t> clients_now{0}, clients_total{0}, sent{0}, dropped{0}, bad{0}, http{0}, refused{0}, accepted{0};
 
   Impl(ServerOptions o, std::vector<Topic> t)
       : options(std::move(o)), topics(std::move(t)), subscribers(topics.size()) {}
@@ -62,8 +67,10 @@ struct FoxgloveServer::Impl {
     ++clients_total;
     send_text(h, {{"op", "serverInfo"},
                   {"name", options.name},
-                  {"capabilities", nlohmann::json::array()},
-                  {"metadata", nlohmann::json::object()}});
+                  {"capabilities",
+                   options.client_topics.empty() ? nlohmann::json::array() : nlohmann::json::array({"clientPublish"})},
+                  {"supportedEncodings", nlohmann::json::array({"json"})},
+                  {"metadata", options.metadata}});
     nlohmann::json channels = nlohmann::json::array();
     for (std::size_t k = 0; k < topics.size(); ++k)
       channels.push_back({{"id", k},
@@ -78,7 +85,7 @@ struct FoxgloveServer::Impl {
   void on_close(Handle h) {
     const auto it = clients.find(h);
     if (it == clients.end()) return;
-    for (const auto& [channel, id] : it->second) --subscribers[channel];
+    for (const auto& [channel, id] : it->second.subs) --subscribers[channel];
     clients.erase(it);
     --clients_now;
   }
@@ -98,14 +105,48 @@ struct FoxgloveServer::Impl {
     }
   }
 
+  // A client's channels: only the topics clients may publish on, JSON-encoded.
+  void advertise(Handle h, Client& client, const nlohmann::json& channels) {
+    for (const nlohmann::json& c : channels) {
+      const std::string topic = c.at("topic").get<std::string>();
+      const bool allowed =
+          std::find(options.client_topics.begin(), options.client_topics.end(), topic) != options.client_topics.end();
+      if (!allowed || c.at("encoding").get<std::string>() != "json") {
+        warn(h, "publishing on '" + topic + "' is not allowed" + (options.client_topics.empty() ? " (read-only)" : ""));
+        continue;
+      }
+      client.published[c.at("id").get<uint32_t>()] = topic;
+    }
+  }
+
+  // Client Message Data: opcode 1, the client's channel id (uint32, little-endian), the payload.
+  void client_data(Handle h, const Client& client, const std::string& bytes) {
+    if (bytes.size() < 5 || bytes[0] != 0x01) return warn(h, "binary message of an unknown kind");
+    uint32_t channel = 0;
+    for (int k = 0; k < 4; ++k) channel |= static_cast<uint32_t>(static_cast<unsigned char>(bytes[1 + k])) << (8 * k);
+    const auto it = client.published.find(channel);
+    if (it == client.published.end())
+      return warn(h, "message on channel " + std::to_string(channel) + " not advertised");
+    const std::string refusal = options.on_client_message(it->second, bytes.substr(5));
+    if (!refusal.empty()) return warn(h, it->second + ": " + refusal);
+    ++accepted;
+  }
+
   void on_message(Handle h, const Server::message_ptr& message) {
-    auto& subs = clients[h];
-    if (message->get_opcode() != websocketpp::frame::opcode::text) return warn(h, "binary messages are not taken");
+    Client& client = clients[h];
+    auto& subs = client.subs;
+    if (message->get_opcode() != websocketpp::frame::opcode::text)
+      return client_data(h, client, message->get_payload());
     try {
       const nlohmann::json request = nlohmann::json::parse(message->get_payload());
       const std::string op = request.at("op").get<std::string>();
       if (op == "subscribe") return subscribe(h, subs, request.at("subscriptions"));
-      if (op != "unsubscribe") return warn(h, "op '" + op + "' is not supported (a read-only view)");
+      if (op == "advertise") return advertise(h, client, request.at("channels"));
+      if (op == "unadvertise") {
+        for (const nlohmann::json& id : request.at("channelIds")) client.published.erase(id.get<uint32_t>());
+        return;
+      }
+      if (op != "unsubscribe") return warn(h, "op '" + op + "' is not supported");
       for (const nlohmann::json& id : request.at("subscriptionIds"))
         for (auto it = subs.begin(); it != subs.end(); ++it)
           if (it->second == id.get<uint32_t>()) {
@@ -146,9 +187,9 @@ struct FoxgloveServer::Impl {
   }
 
   void deliver(int channel, uint64_t time_ns, const std::string& payload) {
-    for (auto& [h, subs] : clients) {
-      const auto sub = subs.find(channel);
-      if (sub == subs.end()) continue;
+    for (auto& [h, client] : clients) {
+      const auto sub = client.subs.find(channel);
+      if (sub == client.subs.end()) continue;
       websocketpp::lib::error_code ec;
       const Server::connection_ptr con = server.get_con_from_hdl(h, ec);
       if (ec || con->get_buffered_amount() > options.max_backlog_bytes) {
@@ -192,7 +233,8 @@ FoxgloveServer::~FoxgloveServer() {
   m.server.get_io_service().post([&m] {
     websocketpp::lib::error_code ec;
     m.server.stop_listening(ec);
-    for (auto& [h, subs] : m.clients) m.server.close(h, websocketpp::close::status::going_away, "server stopping", ec);
+    for (auto& [h, client] : m.clients)
+      m.server.close(h, websocketpp::close::status::going_away, "server stopping", ec);
   });
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   m.server.stop();
@@ -212,7 +254,7 @@ bool FoxgloveServer::subscribed(int channel) const {
 
 ServerCounters FoxgloveServer::counters() const {
   const Impl& m = *impl_;
-  return {m.clients_now, m.clients_total, m.sent, m.dropped, m.bad, m.http, m.refused};
+  return {m.clients_now, m.clients_total, m.sent, m.dropped, m.bad, m.http, m.refused, m.accepted};
 }
 
 }  // namespace arphys::view

@@ -6,6 +6,7 @@
 // gets the newest messages once it drains), counted, and never slows the publisher.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -23,6 +24,12 @@ struct ServerOptions {
   // HTTP paths served: path ("/models/x.obj") -> absolute file; "/" -> page text.
   std::map<std::string, std::string> files;
   std::string index_html;
+  // Topics clients may publish on (JSON), and what takes their messages: it returns "" when
+  // it accepts one, or why it refuses it (sent back as a status message, counted). Called on
+  // the server's thread. No topics: read-only.
+  std::vector<std::string> client_topics;
+  std::function<std::string(const std::string& topic, const std::string& payload)> on_client_message;
+  nlohmann::json metadata = nlohmann::json::object();  // the serverInfo's
 };
 
 struct ServerCounters {
@@ -32,6 +39,7 @@ struct ServerCounters {
   int64_t bad_requests = 0;     // client messages that were not JSON, not an op we take, or refused
   int64_t http_requests = 0;
   int64_t refused_handshakes = 0;  // connections without the foxglove subprotocol
+  int64_t client_messages = 0;     // accepted by on_client_message
 };
 
 class FoxgloveServer {

@@ -15,6 +15,24 @@ volatile std::sig_atomic_t g_stop = 0;
 
 double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
+// The view's 1 Hz heartbeat: clients, messages sent a second, what it dropped and refused.
+void publish_status(arphys::msg::Bus& bus, const arphys::view::ViewRelay& relay,
+                    const arphys::view::FoxgloveServer& server, double uptime_s, double sent_per_s) {
+  const arphys::view::ServerCounters c = server.counters();
+  arphys::process_status_t status = arphys::msg::heartbeat("view", "foxglove.websocket.v1", uptime_s, bus);
+  status.state = "serving";
+  status.rate_hz = sent_per_s;
+  status.published = c.sent;
+  status.dropped = c.dropped_backlog + relay.rate_limited();
+  status.rejected = c.bad_requests + c.refused_handshakes + relay.refused();
+  arphys::msg::add_figure(status, "clients", static_cast<double>(c.clients_now));
+  arphys::msg::add_figure(status, "clients_total", static_cast<double>(c.clients_total));
+  arphys::msg::add_figure(status, "port", server.port());
+  arphys::msg::add_figure(status, "dropped_slow_clients", static_cast<double>(c.dropped_backlog));
+  arphys::msg::add_figure(status, "client_commands", static_cast<double>(c.client_messages));
+  bus.publish(relay.status_channel(), status);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -39,6 +57,15 @@ int main(int argc, char** argv) {
          "a client with more than this queued is sent nothing until it drains (counted)")
       ->check(CLI::PositiveNumber)
       ->default_str("8");
+  bool allow_spawn = false, allow_replay_control = false;
+  std::string replay_control_channel = "ARPHYS_REPLAY_CONTROL";
+  app.add_flag(
+      "--allow-spawn", allow_spawn,
+      "let clients publish spawn commands on /spawn (a dynamic virtual model of the scene, within its limits)");
+  app.add_flag("--allow-replay-control", allow_replay_control,
+               "let clients pause, step, seek and change the rate of arphys-replay on /replay_control");
+  app.add_option("--replay-control-channel", replay_control_channel, "arphys-replay's --control-channel")
+      ->capture_default_str();
   app.add_option("--web-dir", web_dir, "the page's files (index.html, its script, node_modules/three)")
       ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
@@ -51,6 +78,18 @@ int main(int argc, char** argv) {
     relay = std::make_unique<view::ViewRelay>(scene, relay_options);
     server_options.files = relay->files("/models/");
     server_options.index_html = view::page(web_dir, scene.name, server_options.files);
+    if (allow_spawn) {
+      server_options.client_topics.push_back("/spawn");
+      server_options.metadata["spawn_models"] = relay->spawnable_models();
+    }
+    if (allow_replay_control) {
+      server_options.client_topics.push_back("/replay_control");
+      server_options.metadata["replay_control"] = replay_control_channel;
+    }
+    server_options.on_client_message = [&](const std::string& topic, const std::string& payload) {
+      return topic == "/spawn" ? relay->spawn(*bus, payload)
+                               : relay->replay_control(*bus, replay_control_channel, payload);
+    };
     server = std::make_unique<view::FoxgloveServer>(server_options, view::topics());
     relay->set_model_url_prefix("http://" + server_options.host + ":" + std::to_string(server->port()) + "/models/");
     relay->subscribe(*bus, *server);
@@ -69,19 +108,9 @@ int main(int argc, char** argv) {
   while (!g_stop) {
     bus->handle_timeout_ms(100);
     if (const double t = now_s(); t - last_status >= 1.0) {
-      const view::ServerCounters c = server->counters();
-      process_status_t status = msg::heartbeat("view", "foxglove.websocket.v1", t - started, *bus);
-      status.state = "serving";
-      status.rate_hz = (c.sent - sent_at_status) / (t - last_status);
-      sent_at_status = c.sent;
-      status.published = c.sent;
-      status.dropped = c.dropped_backlog + relay->rate_limited();
-      status.rejected = c.bad_requests + c.refused_handshakes + relay->refused();
-      msg::add_figure(status, "clients", static_cast<double>(c.clients_now));
-      msg::add_figure(status, "clients_total", static_cast<double>(c.clients_total));
-      msg::add_figure(status, "port", server->port());
-      msg::add_figure(status, "dropped_slow_clients", static_cast<double>(c.dropped_backlog));
-      bus->publish(relay->status_channel(), status);
+      publish_status(*bus, *relay, *server, t - started,
+                     (server->counters().sent - sent_at_status) / (t - last_status));
+      sent_at_status = server->counters().sent;
       last_status = t;
     }
   }

@@ -1,9 +1,15 @@
 #include "tools/view/view_relay.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+
+#include "arphys/replay_control_t.hpp"
+#include "arphys/sim_command_t.hpp"
+#include "lcmtypes/msg/pose_conversions.hpp"
 
 namespace arphys::view {
 namespace {
@@ -71,6 +77,69 @@ void ViewRelay::subscribe(msg::Bus& bus, FoxgloveServer& server) {
       c.render_status, [&server](const arphys::render_status_t& m, const lcm::ReceiveBuffer&, const std::string&) {
         if (server.subscribed(kLatency)) server.publish(kLatency, now_ns(), latency(m).dump());
       });
+}
+
+std::string ViewRelay::spawnable_models() const {
+  std::string models;
+  for (const config::ObjectConfig& o : scene_.objects)
+    if (o.role == config::Role::kVirtual && o.motion == config::Motion::kDynamic)
+      models += (models.empty() ? "" : ",") + o.id;
+  return models;
+}
+
+std::string ViewRelay::spawn(msg::Bus& bus, const std::string& payload) {
+  Eigen::Vector3d p, v = Eigen::Vector3d::Zero();
+  const config::ObjectConfig* model = nullptr;
+  try {
+    const nlohmann::json request = nlohmann::json::parse(payload);
+    model = scene_.find_object(request.at("model").get<std::string>());
+    const auto vector = [](const nlohmann::json& j) {
+      return Eigen::Vector3d(j.at("x").get<double>(), j.at("y").get<double>(), j.at("z").get<double>());
+    };
+    p = vector(request.at("position"));
+    if (request.contains("velocity")) v = vector(request.at("velocity"));
+  } catch (const std::exception& e) {
+    return std::string("expected {\"model\", \"position\": {x, y, z}, \"velocity\"}: ") + e.what();
+  }
+  if (!model || model->role != config::Role::kVirtual || model->motion != config::Motion::kDynamic)
+    return "not a dynamic virtual model of the scene (spawnable: " + spawnable_models() + ")";
+  if (!p.allFinite() || p.norm() > 10 || !v.allFinite() || v.norm() > 20)
+    return "position beyond 10 m or velocity beyond 20 m/s, or not finite";
+  const double t = now_s();
+  if (t - last_spawn_s_ < 0.1) return "more than 10 spawns a second";
+  last_spawn_s_ = t;
+  arphys::sim_command_t command{};
+  command.utime = static_cast<int64_t>(now_ns() / 1000);
+  command.seq = ++spawn_seq_;
+  command.sender = "view";
+  command.command = arphys::sim_command_t::COMMAND_SPAWN;
+  command.model = model->id;
+  geometry::Pose X_WB = model->X_WO;  // the model's orientation, at the asked position
+  X_WB.translation() = p;
+  command.X_WB = msg::to_message(X_WB);
+  for (int k = 0; k < 3; ++k) command.v_WB_m_s[k] = v[k];
+  bus.publish(scene_.channels.sim_command, command);
+  return "";
+}
+
+std::string ViewRelay::replay_control(msg::Bus& bus, const std::string& channel, const std::string& payload) {
+  arphys::replay_control_t control{};
+  try {
+    const nlohmann::json request = nlohmann::json::parse(payload);
+    control.command = request.at("command").get<std::string>();
+    control.value = request.value("value", 0.0);
+  } catch (const std::exception& e) {
+    return std::string("expected {\"command\", \"value\"}: ") + e.what();
+  }
+  static const char* const kCommands[] = {"pause", "resume", "toggle", "step", "seek", "rate"};
+  if (std::find(std::begin(kCommands), std::end(kCommands), control.command) == std::end(kCommands))
+    return "unknown command '" + control.command + "' (pause, resume, toggle, step, seek, rate)";
+  if (!std::isfinite(control.value)) return "value not finite";
+  control.utime = static_cast<int64_t>(now_ns() / 1000);
+  control.seq = ++control_seq_;
+  control.sender = "view";
+  bus.publish(channel, control);
+  return "";
 }
 
 std::string page(const std::string& web_dir, const std::string& scene_name, std::map<std::string, std::string>& files) {

@@ -28,6 +28,17 @@ class ViewRelay {
   int64_t refused() const { return refused_; }            // frames that did not decode
   int64_t rate_limited() const { return rate_limited_; }  // frames skipped by the image rate
   const std::string& status_channel() const { return scene_.channels.process_status; }
+  // Takes a client's message on "/spawn" ({"model", "position": {x,y,z}, "velocity": {x,y,z}},
+  // metres and m/s in the world): a dynamic virtual model of the scene, finite, within 10 m
+  // and 20 m/s (the simulator's own bounds, which also cap the instances), at most 10 a
+  // second; publishes the spawn command on the scene's channel. Returns "" or why not.
+  std::string spawn(msg::Bus& bus, const std::string& payload);
+  // Takes a client's message on "/replay_control" ({"command": pause, resume, toggle, step,
+  // seek or rate, "value": seconds or times real time}) and publishes it as a replay_control_t
+  // on `channel` for arphys-replay. Returns "" or why not.
+  std::string replay_control(msg::Bus& bus, const std::string& channel, const std::string& payload);
+  // The models a client may spawn (for the serverInfo's metadata).
+  std::string spawnable_models() const;
 
  private:
   void image(FoxgloveServer& server, int topic, const arphys::image_t& frame);
@@ -36,6 +47,8 @@ class ViewRelay {
   std::unique_ptr<SceneDrawing> drawing_;
   double last_image_s_[kTopicCount] = {};
   int64_t refused_ = 0, rate_limited_ = 0;
+  int64_t spawn_seq_ = 0, control_seq_ = 0;
+  double last_spawn_s_ = 0;
 };
 
 // The page served at "/" (web_dir/index.html) with the files it loads added to `files`: its

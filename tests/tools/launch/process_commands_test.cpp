@@ -104,6 +104,11 @@ TEST(ProcessCommands, AViewServesTheRunAndGetsTheOverlay) {
   EXPECT_TRUE(has(commands[2].args, "--port", "9001"));
   EXPECT_TRUE(has(commands[2].args, "--lcm-url", scene.lcm_url));
   EXPECT_FALSE(ends_by_itself("view", o));
+  EXPECT_EQ(std::find(commands[2].args.begin(), commands[2].args.end(), "--allow-spawn"), commands[2].args.end());
+  o.view_allow_spawn = true;
+  EXPECT_EQ(process_commands(o, scene, &script, "s.state")[2].args.back(), "--allow-spawn");
+  o.replay_log = "/logs/run.lcmlog";  // a replay: the page's buttons drive it
+  EXPECT_EQ(process_commands(o, scene, &script, "s.state")[2].args.back(), "--allow-replay-control");
 }
 
 }  // namespace

@@ -22,6 +22,8 @@
 #include "arphys/object_poses_t.hpp"
 #include "arphys/process_status_t.hpp"
 #include "arphys/render_status_t.hpp"
+#include "arphys/replay_control_t.hpp"
+#include "arphys/sim_command_t.hpp"
 #include "arphys/world_state_t.hpp"
 #include "lcmtypes/msg/bus.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
@@ -31,7 +33,11 @@
 namespace {
 
 using nlohmann::json;
-const std::string kUrl = "udpm://239.255.76.67:7983?ttl=0";  // a port of its own
+// A port of its own for each test (ctest runs them side by side).
+const std::string kUrl = "udpm://239.255.76.67:7983?ttl=0";
+const std::string kLoadUrl = "udpm://239.255.76.67:7981?ttl=0";
+const std::string kSpawnUrl = "udpm://239.255.76.67:7980?ttl=0";
+const std::string kReplayUrl = "udpm://239.255.76.67:7979?ttl=0";
 constexpr int kPort = 18766;
 
 arphys::pose_t pose_of(double x, double y, double z) {
@@ -188,11 +194,11 @@ TEST(ViewProtocol, TheOfficialClientDecodesWhatTheBusCarried) {
 // noise (large JPEGs) flow at 30 Hz: the stalled client's messages are dropped and counted,
 // the client that reads throughout gets nearly every world state, the view keeps serving.
 TEST(ViewProtocol, AHundredClientsComingAndGoingAndAStalledOneLeaveTheViewServing) {
-  arphys::msg::Bus bus(kUrl);
+  arphys::msg::Bus bus(kLoadUrl);
   const std::string bin = ARPHYS_BINARY_DIR, src = ARPHYS_SOURCE_DIR, port = std::to_string(kPort + 1);
-  const pid_t view = arphys::testing::spawn_process({bin + "/tools/view/arphys-view",
-                                                     src + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kUrl,
-                                                     "--port", port, "--image-rate-hz", "30", "--max-backlog-mb", "1"});
+  const pid_t view = arphys::testing::spawn_process(
+      {bin + "/tools/view/arphys-view", src + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kLoadUrl, "--port",
+       port, "--image-rate-hz", "30", "--max-backlog-mb", "1"});
   ASSERT_GT(view, 0);
   Stopped view_guard{view};
   std::optional<arphys::process_status_t> view_status;
@@ -237,6 +243,114 @@ TEST(ViewProtocol, AHundredClientsComingAndGoingAndAStalledOneLeaveTheViewServin
   EXPECT_GE(arphys::msg::figure(*view_status, "clients_total").value_or(0), 102);
   EXPECT_GT(arphys::msg::figure(*view_status, "dropped_slow_clients").value_or(0), 0)
       << "the stalled client's backlog was not dropped";
+}
+
+// What a command prints (run through the shell).
+std::string output_of(const std::string& command) {
+  std::string out;
+  if (FILE* pipe = popen(command.c_str(), "r")) {
+    char buffer[4096];
+    for (std::size_t n; (n = fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
+    pclose(pipe);
+  }
+  return out;
+}
+
+// With --allow-spawn a client may publish spawns of the scene's dynamic models within its
+// limits, and nothing else: one good spawn and a later one reach the simulator's channel as
+// commands; another topic (and the message sent on it), an unknown model, a spawn 1 km away and
+// one over the rate are refused with a status each. Without the flag, the view is read-only.
+TEST(ViewProtocol, SpawnsWithinTheScenesLimitsAndOnlyWithAllowSpawn) {
+  arphys::msg::Bus bus(kSpawnUrl);
+  const std::string bin = ARPHYS_BINARY_DIR, src = ARPHYS_SOURCE_DIR;
+  std::vector<arphys::sim_command_t> commands;
+  bus.subscribe<arphys::sim_command_t>(
+      "ARPHYS_SIM_COMMAND",
+      [&](const arphys::sim_command_t& c, const lcm::ReceiveBuffer&, const std::string&) { commands.push_back(c); });
+  for (const bool allowed : {true, false}) {
+    const std::string port = std::to_string(kPort + (allowed ? 2 : 3));
+    std::vector<std::string> args{bin + "/tools/view/arphys-view",
+                                  src + "/configs/scenes/bunny_box_table.yaml",
+                                  "--lcm-url",
+                                  kSpawnUrl,
+                                  "--port",
+                                  port};
+    if (allowed) args.push_back("--allow-spawn");
+    const pid_t view = arphys::testing::spawn_process(args);
+    ASSERT_GT(view, 0);
+    Stopped view_guard{view};
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    const std::string spawn = "'/spawn={\"model\":\"bunny\",\"position\":{\"x\":";
+    std::string printed;
+    std::thread client([&] {
+      printed = output_of("node " + src + "/tools/view/web/publish_client.mjs ws://127.0.0.1:" + port +
+                          " '/other={\"anything\":1}' " + spawn +
+                          "0.1,\"y\":0,\"z\":0.3},\"velocity\":{\"x\":0,\"y\":0,\"z\":-1}}' "
+                          "'/spawn={\"model\":\"no-such-model\",\"position\":{\"x\":0,\"y\":0,\"z\":0.3}}' " +
+                          spawn + "1000,\"y\":0,\"z\":0.3}}' " + spawn + "0.2,\"y\":0,\"z\":0.3}}' wait=150 " + spawn +
+                          "0.3,\"y\":0,\"z\":0.3}}'");
+    });
+    for (int k = 0; k < 20; ++k) bus.handle_timeout_ms(100);
+    client.join();
+    const json reply = json::parse(printed.substr(printed.find('{')));
+    const std::string statuses = reply["statuses"].dump();
+    if (allowed) {
+      EXPECT_EQ(reply["capabilities"][0], "clientPublish");
+      EXPECT_EQ(reply["metadata"]["spawn_models"], "bunny");
+      ASSERT_EQ(commands.size(), 2u) << statuses;
+      EXPECT_EQ(commands[0].command, arphys::sim_command_t::COMMAND_SPAWN);
+      EXPECT_EQ(commands[0].model, "bunny");
+      EXPECT_EQ(commands[0].X_WB.position_m[0], 0.1);
+      EXPECT_EQ(commands[0].v_WB_m_s[2], -1.0);
+      EXPECT_EQ(commands[1].X_WB.position_m[0], 0.3);
+      EXPECT_GT(commands[1].seq, commands[0].seq);
+      EXPECT_EQ(reply["statuses"].size(), 5u) << statuses;
+      EXPECT_NE(statuses.find("'/other' is not allowed"), std::string::npos) << statuses;
+      EXPECT_NE(statuses.find("not advertised"), std::string::npos) << statuses;  // the message sent on it
+      EXPECT_NE(statuses.find("not a dynamic virtual model"), std::string::npos) << statuses;
+      EXPECT_NE(statuses.find("beyond 10 m"), std::string::npos) << statuses;
+      EXPECT_NE(statuses.find("more than 10 spawns a second"), std::string::npos) << statuses;
+    } else {
+      EXPECT_TRUE(reply["capabilities"].empty());
+      EXPECT_EQ(commands.size(), 2u) << "a read-only view published";
+      EXPECT_NE(statuses.find("'/spawn' is not allowed (read-only)"), std::string::npos) << statuses;
+    }
+  }
+}
+
+// With --allow-replay-control a client drives arphys-replay: its commands reach the control
+// channel as replay_control_t, an unknown one is refused with a status.
+TEST(ViewProtocol, ReplayControlsReachTheReplayOnlyWhenAllowed) {
+  arphys::msg::Bus bus(kReplayUrl);
+  const std::string bin = ARPHYS_BINARY_DIR, src = ARPHYS_SOURCE_DIR, port = std::to_string(kPort + 4);
+  std::vector<arphys::replay_control_t> controls;
+  bus.subscribe<arphys::replay_control_t>("CONTROL", [&](const arphys::replay_control_t& c, const lcm::ReceiveBuffer&,
+                                                         const std::string&) { controls.push_back(c); });
+  const pid_t view = arphys::testing::spawn_process(
+      {bin + "/tools/view/arphys-view", src + "/configs/scenes/bunny_box_table.yaml", "--lcm-url", kReplayUrl, "--port",
+       port, "--allow-replay-control", "--replay-control-channel", "CONTROL"});
+  ASSERT_GT(view, 0);
+  Stopped view_guard{view};
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  std::string printed;
+  std::thread client([&] {
+    printed = output_of("node " + src + "/tools/view/web/publish_client.mjs ws://127.0.0.1:" + port +
+                        " '/replay_control={\"command\":\"seek\",\"value\":2.5}'"
+                        " '/replay_control={\"command\":\"jump\"}' '/spawn={\"model\":\"bunny\"}'"
+                        " '/replay_control={\"command\":\"pause\"}'");
+  });
+  for (int k = 0; k < 15; ++k) bus.handle_timeout_ms(100);
+  client.join();
+  const json reply = json::parse(printed.substr(printed.find('{')));
+  EXPECT_EQ(reply["metadata"]["replay_control"], "CONTROL");
+  ASSERT_EQ(controls.size(), 2u) << printed;
+  EXPECT_EQ(controls[0].command, "seek");
+  EXPECT_EQ(controls[0].value, 2.5);
+  EXPECT_EQ(controls[1].command, "pause");
+  EXPECT_EQ(controls[1].seq, controls[0].seq + 1);
+  const std::string statuses = reply["statuses"].dump();
+  EXPECT_NE(statuses.find("unknown command 'jump'"), std::string::npos) << statuses;
+  EXPECT_NE(statuses.find("'/spawn' is not allowed"), std::string::npos) << statuses;  // no --allow-spawn
 }
 
 }  // namespace

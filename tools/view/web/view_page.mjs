@@ -100,6 +100,9 @@ function showStatus(s) {
   processes.set(s.name, s);
   table("processes", [...processes.values()].map((p) => ({
     cells: [p.name, p.state, p.rate_hz.toFixed(1), p.received, p.dropped] })));
+  if (s.name === "replay")
+    document.getElementById("position").textContent =
+      `${s.figures.position_s.toFixed(1)} / ${s.figures.duration_s.toFixed(1)} s at ${s.figures.rate}x, ${s.state}`;
 }
 function showObjects(o) {
   table("objects", o.objects.map((x) => ({
@@ -133,9 +136,52 @@ const topicOf = new Map();  // subscription id -> topic
 const decoder = new TextDecoder();
 ws.onopen = () => (document.getElementById("connection").textContent = "connected");
 ws.onclose = () => (document.getElementById("connection").textContent = "disconnected");
+// Client Message Data: opcode 1, the client's channel id (little-endian), the JSON payload.
+const encoder = new TextEncoder();
+function publish(channel, message) {
+  const body = encoder.encode(JSON.stringify(message));
+  const frame = new Uint8Array(5 + body.length);
+  frame[0] = 1;
+  new DataView(frame.buffer).setUint32(1, channel, true);
+  frame.set(body, 5);
+  ws.send(frame);
+}
+
+// What the server lets clients publish (clientPublish): with --allow-spawn a button drops the
+// scene's first spawnable model above the table, a little off centre each time; with
+// --allow-replay-control buttons pause, step, seek and change the rate of arphys-replay.
+function offerControls(info) {
+  if (!info.capabilities.includes("clientPublish")) return;
+  const models = info.metadata?.spawn_models;
+  const advertise = (id, topic) =>
+    ws.send(JSON.stringify({ op: "advertise", channels: [{ id, topic, encoding: "json", schemaName: "arphys.Command" }] }));
+  if (models) {
+    advertise(1, "/spawn");
+    const button = document.getElementById("spawn");
+    button.hidden = false;
+    button.onclick = () => publish(1, { model: models.split(",")[0],
+      position: { x: (Math.random() - 0.5) * 0.3, y: (Math.random() - 0.5) * 0.2, z: 0.3 } });
+  }
+  if (info.metadata?.replay_control) {
+    advertise(2, "/replay_control");
+    document.getElementById("replay").hidden = false;
+    for (const button of document.querySelectorAll("#replay button")) {
+      button.onclick = () => {
+        const replay = processes.get("replay")?.figures ?? {};
+        const [command, change] = button.dataset.command.split(" ");
+        const value = command === "seek" ? (replay.position_s ?? 0) + Number(change)
+                    : command === "rate" ? (replay.rate ?? 1) * Number(change) : 0;
+        publish(2, { command, value });
+      };
+    }
+  }
+}
+
 ws.onmessage = (event) => {
   if (typeof event.data === "string") {
     const message = JSON.parse(event.data);
+    if (message.op === "serverInfo") offerControls(message);
+    if (message.op === "status") document.getElementById("connection").textContent = message.message;
     if (message.op !== "advertise") return;
     const subscriptions = message.channels
       .filter((c) => c.topic in handlers)
