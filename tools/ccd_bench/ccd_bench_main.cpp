@@ -156,14 +156,14 @@ struct SweepOptions {
   std::string csv_path, summary_path, label;
 };
 
-int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const SweepOptions& opt) {
-  // Motions: A still at the identity; B between two collision-free poses.
+// Motions: A still at the identity; B between two collision-free poses. `draws`: how many
+// pose pairs were drawn to find them.
+std::vector<ScrewMotion> draw_motions(const Bodies& bodies, const SweepOptions& opt, long& draws) {
   std::mt19937_64 rng(opt.seed);
   std::uniform_real_distribution<double> position(-opt.extent, opt.extent), unit(0.0, 1.0);
   std::vector<ScrewMotion> motions;
   const Pose identity = Pose::Identity();
-  const ScrewMotion still(identity, identity);
-  long draws = 0;
+  draws = 0;
   while (static_cast<int>(motions.size()) < opt.queries) {
     ++draws;
     Pose X0 = Pose::Identity(), X1 = Pose::Identity();
@@ -179,15 +179,76 @@ int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const Sw
       continue;
     motions.emplace_back(X0, X1);
   }
+  return motions;
+}
 
+// One method's answers against the truth.
+struct Tally {
+  long hits = 0, misses = 0, late = 0, false_positives = 0, verified_grazing = 0;
+  double max_late = 0;
+  std::vector<double> abs_errors, micros;
+  // Scores one answer; returns its error (0 unless both hit).
+  double score(const Outcome& out, const ccd_reference::ReferenceToi& truth, const Bodies& bodies,
+               const ScrewMotion& motion) {
+    double error = 0;
+    if (out.hit) ++hits;
+    if (truth.hit && !out.hit) {
+      ++misses;
+    } else if (!truth.hit && out.hit) {
+      // The sampled truth can step over a grazing touch: check the surfaces really meet.
+      const auto sep =
+          collision::separation(*bodies.ours_a, Pose::Identity(), *bodies.ours_b, motion.pose_at(out.toi), 1e-3);
+      ++(sep.distance_m <= 1e-6 ? verified_grazing : false_positives);
+    } else if (truth.hit && out.hit) {
+      // Late: after the first sample found intersecting; error: from the last free one.
+      error = out.toi - truth.toi_lo;
+      if (out.toi > truth.toi) {
+        ++late;
+        max_late = std::max(max_late, out.toi - truth.toi);
+      }
+      abs_errors.push_back(std::abs(error));
+    }
+    return error;
+  }
+};
+
+// The summary table, printed and written to opt.summary_path.
+void write_summary(const std::vector<Method>& methods, std::map<std::string, Tally>& tally, const SweepOptions& opt,
+                   long draws, long true_hits, const std::vector<double>& truth_micros) {
+  const double ours_median = median(tally["arphys-ccd"].micros);
+  std::ofstream summary(opt.summary_path);
+  summary << "# " << opt.label << "; " << opt.queries << " motions (" << draws << " draws), seed " << opt.seed << ", "
+          << true_hits << " true hits, truth " << opt.truth_samples << " samples + bisection; " << machine_line()
+          << "\n";
+  summary << "method,queries,true_hits,hits,misses,late,max_late,false_positives,verified_grazing,max_abs_toi_error,"
+             "p95_abs_toi_error,median_us,ratio_to_arphys\n";
+  std::printf("%s: %d motions (%ld draws), seed %u; %ld true hits; truth median %.0f us\n%s\n", opt.label.c_str(),
+              opt.queries, draws, opt.seed, true_hits, median(truth_micros), machine_line().c_str());
+  std::printf("%-20s %6s %6s %6s %10s %6s %8s %10s %10s %11s %9s\n", "method", "hits", "missed", "late", "max_late",
+              "FP", "grazing", "max|err|", "p95|err|", "median_us", "x arphys");
+  for (const Method& method : methods) {
+    const Tally& t = tally[method.name];
+    const double med = median(t.micros);
+    const double max_err = t.abs_errors.empty() ? 0 : *std::max_element(t.abs_errors.begin(), t.abs_errors.end());
+    const double p95 = percentile(t.abs_errors, 0.95);
+    std::printf("%-20s %6ld %6ld %6ld %10.2e %6ld %8ld %10.2e %10.2e %11.1f %9.2f\n", method.name.c_str(), t.hits,
+                t.misses, t.late, t.max_late, t.false_positives, t.verified_grazing, max_err, p95, med,
+                med / ours_median);
+    char row[512];
+    std::snprintf(row, sizeof row, "%s,%d,%ld,%ld,%ld,%ld,%.3e,%ld,%ld,%.3e,%.3e,%.2f,%.3f\n", method.name.c_str(),
+                  opt.queries, true_hits, t.hits, t.misses, t.late, t.max_late, t.false_positives, t.verified_grazing,
+                  max_err, p95, med, med / ours_median);
+    summary << row;
+  }
+}
+
+int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const SweepOptions& opt) {
+  long draws = 0;
+  const std::vector<ScrewMotion> motions = draw_motions(bodies, opt, draws);
+  const ScrewMotion still(Pose::Identity(), Pose::Identity());
   std::ofstream csv(opt.csv_path);
   csv << "# " << opt.label << "; " << machine_line() << "\n";
   csv << "query,method,hit,toi,truth_hit,truth_toi,error,micros\n";
-  struct Tally {
-    long hits = 0, misses = 0, late = 0, false_positives = 0, verified_grazing = 0;
-    double max_late = 0;
-    std::vector<double> abs_errors, micros;
-  };
   std::map<std::string, Tally> tally;
   long true_hits = 0;
   std::vector<double> truth_micros;
@@ -206,23 +267,7 @@ int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const Sw
       const double us = time_us([&] { out = method.run(still, motion); });
       Tally& t = tally[method.name];
       t.micros.push_back(us);
-      double error = 0;
-      if (out.hit) ++t.hits;
-      if (truth.hit && !out.hit) {
-        ++t.misses;
-      } else if (!truth.hit && out.hit) {
-        // The sampled truth can step over a grazing touch: check the surfaces really meet.
-        const auto sep = collision::separation(*bodies.ours_a, identity, *bodies.ours_b, motion.pose_at(out.toi), 1e-3);
-        ++(sep.distance_m <= 1e-6 ? t.verified_grazing : t.false_positives);
-      } else if (truth.hit && out.hit) {
-        // Late: after the first sample found intersecting; error: from the last free one.
-        error = out.toi - truth.toi_lo;
-        if (out.toi > truth.toi) {
-          ++t.late;
-          t.max_late = std::max(t.max_late, out.toi - truth.toi);
-        }
-        t.abs_errors.push_back(std::abs(error));
-      }
+      const double error = t.score(out, truth, bodies, motion);
       char row[256];
       std::snprintf(row, sizeof row, "%d,%s,%d,%.12f,%d,%.12f,%.3e,%.2f\n", q, method.name.c_str(), out.hit, out.toi,
                     truth.hit, truth.toi, error, us);
@@ -233,30 +278,7 @@ int run_sweep(const Bodies& bodies, const std::vector<Method>& methods, const Sw
                    true_hits);
   }
   std::fprintf(stderr, "\n");
-
-  const double ours_median = median(tally["arphys-ccd"].micros);
-  std::ofstream summary(opt.summary_path);
-  summary << "# " << opt.label << "; " << opt.queries << " motions (" << draws << " draws), seed " << opt.seed << ", "
-          << true_hits << " true hits, truth " << opt.truth_samples << " samples + bisection; " << machine_line() << "\n";
-  summary << "method,queries,true_hits,hits,misses,late,max_late,false_positives,verified_grazing,max_abs_toi_error,"
-             "p95_abs_toi_error,median_us,ratio_to_arphys\n";
-  std::printf("%s: %d motions (%ld draws), seed %u; %ld true hits; truth median %.0f us\n%s\n", opt.label.c_str(),
-              opt.queries, draws, opt.seed, true_hits, median(truth_micros), machine_line().c_str());
-  std::printf("%-20s %6s %6s %6s %10s %6s %8s %10s %10s %11s %9s\n", "method", "hits", "missed", "late", "max_late",
-              "FP", "grazing", "max|err|", "p95|err|", "median_us", "x arphys");
-  for (const Method& method : methods) {
-    const Tally& t = tally[method.name];
-    const double med = median(t.micros);
-    const double max_err = t.abs_errors.empty() ? 0 : *std::max_element(t.abs_errors.begin(), t.abs_errors.end());
-    const double p95 = percentile(t.abs_errors, 0.95);
-    std::printf("%-20s %6ld %6ld %6ld %10.2e %6ld %8ld %10.2e %10.2e %11.1f %9.2f\n", method.name.c_str(), t.hits,
-                t.misses, t.late, t.max_late, t.false_positives, t.verified_grazing, max_err, p95, med, med / ours_median);
-    char row[512];
-    std::snprintf(row, sizeof row, "%s,%d,%ld,%ld,%ld,%ld,%.3e,%ld,%ld,%.3e,%.3e,%.2f,%.3f\n", method.name.c_str(),
-                  opt.queries, true_hits, t.hits, t.misses, t.late, t.max_late, t.false_positives, t.verified_grazing,
-                  max_err, p95, med, med / ours_median);
-    summary << row;
-  }
+  write_summary(methods, tally, opt, draws, true_hits, truth_micros);
   return 0;
 }
 

@@ -60,6 +60,113 @@ arphys::object_poses_t poses(int64_t utime, int64_t seq, const std::string& obje
   return m;
 }
 
+// One round of every fault on the scene's channels, counting what it sent.
+class FaultRounds {
+ public:
+  FaultRounds(msg::Bus& bus, const config::ChannelNames& channels, uint32_t seed)
+      : bus_(bus), ch_(channels), rng_(seed) {}
+  void round(long round, int64_t now) {
+    junk(round, now);
+    bad_images(round, now);
+    bad_poses(round, now);
+    spawn_flood(round, now);
+    replays(round, now);
+    if (round % 10 == 0) burst(round, now);
+  }
+  const std::map<std::string, long>& sent() const { return sent_; }
+
+ private:
+  void junk(long round, int64_t now) {
+    for (const std::string& channel : {ch_.camera_image, ch_.object_poses, ch_.world_state, ch_.sim_command,
+                                       ch_.tracker_control, ch_.marker_detections, ch_.render_status}) {
+      std::vector<uint8_t> junk(1 + byte(rng_) * 4);
+      for (auto& b : junk) b = static_cast<uint8_t>(byte(rng_));
+      raw(channel, junk, "random bytes");
+    }
+    std::vector<uint8_t> truncated = msg::encode(poses(now, 1000000 + round, "box", box, unit));
+    truncated.resize(truncated.size() / 2);
+    raw(ch_.object_poses, truncated, "truncated poses");
+  }
+  void bad_images(long round, int64_t now) {
+    arphys::image_t image = gray_image(now, round, 320, 240, 90);
+    bus_.publish(ch_.camera_image, image);
+    ++sent_["image of the wrong size"];
+    image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
+    image.data.assign(64, 0xff);
+    image.size = 64;
+    bus_.publish(ch_.camera_image, image);
+    ++sent_["undecodable JPEG"];
+    image.pixel_format = 42;
+    bus_.publish(ch_.camera_image, image);
+    ++sent_["unknown pixel format"];
+  }
+  void bad_poses(long round, int64_t now) {
+    bus_.publish(ch_.object_poses, poses(now, 2000000 + 4 * round, "box", nan_p, unit));
+    bus_.publish(ch_.object_poses, poses(now, 2000000 + 4 * round + 1, "box", inf_p, unit));
+    bus_.publish(ch_.object_poses, poses(now, 2000000 + 4 * round + 2, "box", box, stretched));
+    bus_.publish(ch_.object_poses, poses(now, 2000000 + 4 * round + 3, "box", box, nan_q));
+    sent_["NaN/inf/non-unit poses"] += 4;
+    bus_.publish(ch_.object_poses, poses(now, 3000000 + round, "ghost", box, unit));
+    ++sent_["unknown object"];
+    bus_.publish(ch_.object_poses, poses(now - 10000000, 1, "box", box, unit));  // seq and time going back
+    bus_.publish(ch_.object_poses, poses(now - 10000000, 1, "box", box, unit));  // and repeated
+    sent_["backwards/repeated frames"] += 2;
+  }
+  void spawn_flood(long round, int64_t now) {
+    for (int k = 0; k < 5; ++k) {
+      arphys::sim_command_t c{};
+      c.utime = now;
+      c.seq = round * 5 + k + 1;
+      c.sender = "arphys-fault";
+      c.command = arphys::sim_command_t::COMMAND_SPAWN;
+      c.model = k == 0 ? "no-such-model" : "bunny";
+      c.X_WB.orientation_wxyz[0] = 1;
+      c.X_WB.position_m[0] = k == 1 ? 1000.0 : 0.0;  // far away
+      c.X_WB.position_m[2] = 0.3;
+      c.v_WB_m_s[0] = k == 2 ? 1000.0 : 0.0;  // too fast
+      bus_.publish(ch_.sim_command, c);
+      ++sent_["spawn requests"];
+    }
+    // A tracker control message asking for nonsense.
+    arphys::tracker_control_t control{};
+    control.utime = now;
+    control.implementation = "no-such-detector";
+    bus_.publish(ch_.tracker_control, control);
+    ++sent_["bad tracker controls"];
+  }
+  void replays(long round, int64_t now) {
+    arphys::image_t frame = gray_image(now, 6000000 + round, 640, 480, 100);
+    frame.camera_id = "fault-replay";
+    bus_.publish(ch_.camera_image, frame);
+    bus_.publish(ch_.camera_image, frame);
+    frame.utime -= 1000000;
+    frame.seq -= 1;
+    bus_.publish(ch_.camera_image, frame);
+    sent_["replayed/older camera frames"] += 2;
+  }
+  void burst(long round, int64_t now) {
+    arphys::image_t frame = gray_image(now, 0, 640, 480, 128);
+    for (int k = 0; k < 10; ++k) {
+      frame.seq = 5000000 + round * 10 + k;
+      bus_.publish(ch_.camera_image, frame);
+    }
+    sent_["burst frames"] += 10;
+  }
+  void raw(const std::string& channel, const std::vector<uint8_t>& bytes, const char* what) {
+    bus_.publish_raw(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
+    ++sent_[what];
+  }
+
+  msg::Bus& bus_;
+  const config::ChannelNames& ch_;
+  std::mt19937 rng_;
+  std::uniform_int_distribution<int> byte{0, 255};
+  std::map<std::string, long> sent_;
+  static constexpr double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  static constexpr double unit[4] = {1, 0, 0, 0}, stretched[4] = {2, 0, 0, 0}, nan_q[4] = {nan, 0, 0, 0};
+  static constexpr double box[3] = {0.25, 0, 0.075}, nan_p[3] = {nan, 0, 0}, inf_p[3] = {inf, 0, 0};
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -88,105 +195,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "arphys-fault: %s\n", e.what());
     return 2;
   }
-  const auto& ch = scene.channels;
-  std::mt19937 rng(seed);
-  std::uniform_int_distribution<int> byte(0, 255);
-  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
-  const double unit[4] = {1, 0, 0, 0}, stretched[4] = {2, 0, 0, 0}, nan_q[4] = {nan, 0, 0, 0};
-  const double box[3] = {0.25, 0, 0.075}, nan_p[3] = {nan, 0, 0}, inf_p[3] = {inf, 0, 0};
-  std::map<std::string, long> sent;
-  auto raw = [&](const std::string& channel, const std::vector<uint8_t>& bytes, const char* what) {
-    bus->publish_raw(channel, bytes.data(), static_cast<unsigned>(bytes.size()));
-    ++sent[what];
-  };
+  FaultRounds faults(*bus, scene.channels, seed);
   const auto start = std::chrono::steady_clock::now();
   for (long round = 0;; ++round) {
     const auto due = start + std::chrono::duration<double>(round / rate_hz);
     if (std::chrono::duration<double>(due - start).count() > duration_s) break;
     std::this_thread::sleep_until(due);
-    const int64_t now = msg::now_utime();
-
-    // Random bytes and truncated real messages on every channel.
-    for (const std::string& channel : {ch.camera_image, ch.object_poses, ch.world_state, ch.sim_command,
-                                       ch.tracker_control, ch.marker_detections, ch.render_status}) {
-      std::vector<uint8_t> junk(1 + byte(rng) * 4);
-      for (auto& b : junk) b = static_cast<uint8_t>(byte(rng));
-      raw(channel, junk, "random bytes");
-    }
-    std::vector<uint8_t> truncated = msg::encode(poses(now, 1000000 + round, "box", box, unit));
-    truncated.resize(truncated.size() / 2);
-    raw(ch.object_poses, truncated, "truncated poses");
-
-    // Images: wrong size, undecodable JPEG, unknown format.
-    arphys::image_t image = gray_image(now, round, 320, 240, 90);
-    bus->publish(ch.camera_image, image);
-    ++sent["image of the wrong size"];
-    image.pixel_format = arphys::image_t::PIXEL_FORMAT_JPEG;
-    image.data.assign(64, 0xff);
-    image.size = 64;
-    bus->publish(ch.camera_image, image);
-    ++sent["undecodable JPEG"];
-    image.pixel_format = 42;
-    bus->publish(ch.camera_image, image);
-    ++sent["unknown pixel format"];
-
-    // Poses: NaN, inf, non-unit quaternion, unknown object, backwards and repeated seq.
-    bus->publish(ch.object_poses, poses(now, 2000000 + 4 * round, "box", nan_p, unit));
-    bus->publish(ch.object_poses, poses(now, 2000000 + 4 * round + 1, "box", inf_p, unit));
-    bus->publish(ch.object_poses, poses(now, 2000000 + 4 * round + 2, "box", box, stretched));
-    bus->publish(ch.object_poses, poses(now, 2000000 + 4 * round + 3, "box", box, nan_q));
-    sent["NaN/inf/non-unit poses"] += 4;
-    bus->publish(ch.object_poses, poses(now, 3000000 + round, "ghost", box, unit));
-    ++sent["unknown object"];
-    bus->publish(ch.object_poses, poses(now - 10000000, 1, "box", box, unit));  // seq and time going back
-    bus->publish(ch.object_poses, poses(now - 10000000, 1, "box", box, unit));  // and repeated
-    sent["backwards/repeated frames"] += 2;
-
-    // Spawn flood beyond every limit.
-    for (int k = 0; k < 5; ++k) {
-      arphys::sim_command_t c{};
-      c.utime = now;
-      c.seq = round * 5 + k + 1;
-      c.sender = "arphys-fault";
-      c.command = arphys::sim_command_t::COMMAND_SPAWN;
-      c.model = k == 0 ? "no-such-model" : "bunny";
-      c.X_WB.orientation_wxyz[0] = 1;
-      c.X_WB.position_m[0] = k == 1 ? 1000.0 : 0.0;  // far away
-      c.X_WB.position_m[2] = 0.3;
-      c.v_WB_m_s[0] = k == 2 ? 1000.0 : 0.0;  // too fast
-      bus->publish(ch.sim_command, c);
-      ++sent["spawn requests"];
-    }
-    // A tracker control message asking for nonsense.
-    arphys::tracker_control_t control{};
-    control.utime = now;
-    control.implementation = "no-such-detector";
-    bus->publish(ch.tracker_control, control);
-    ++sent["bad tracker controls"];
-
-    // A valid frame sent again (a replay) and one from before it: neither is tracked or
-    // drawn a second time.
-    {
-      arphys::image_t frame = gray_image(now, 6000000 + round, 640, 480, 100);
-      frame.camera_id = "fault-replay";
-      bus->publish(ch.camera_image, frame);
-      bus->publish(ch.camera_image, frame);
-      frame.utime -= 1000000;
-      frame.seq -= 1;
-      bus->publish(ch.camera_image, frame);
-      sent["replayed/older camera frames"] += 2;
-    }
-
-    // A burst: ten valid-size frames at once (ten times a camera's rate).
-    if (round % 10 == 0) {
-      arphys::image_t frame = gray_image(now, 0, 640, 480, 128);
-      for (int k = 0; k < 10; ++k) {
-        frame.seq = 5000000 + round * 10 + k;
-        bus->publish(ch.camera_image, frame);
-      }
-      sent["burst frames"] += 10;
-    }
+    faults.round(round, msg::now_utime());
   }
-  for (const auto& [what, count] : sent) std::printf("%-26s %ld\n", what.c_str(), count);
+  for (const auto& [what, count] : faults.sent()) std::printf("%-26s %ld\n", what.c_str(), count);
   return 0;
 }

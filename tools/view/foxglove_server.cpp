@@ -209,6 +209,8 @@ FoxgloveServer::FoxgloveServer(ServerOptions options, std::vector<Topic> topics)
   m.server.clear_error_channels(websocketpp::log::elevel::all);
   m.server.init_asio();
   m.server.set_reuse_addr(true);
+  m.server.set_max_message_size(1 << 20);  // a client's requests are small: a huge one is refused, not buffered
+  m.server.set_max_http_body_size(1 << 16);
   using std::placeholders::_1;
   using std::placeholders::_2;
   m.server.set_validate_handler(std::bind(&Impl::on_validate, &m, _1));

@@ -1,5 +1,7 @@
 // arphys-view: the pipeline's LCM traffic served over the Foxglove WebSocket protocol, for
 // Foxglove, Lichtblick or any client of foxglove.websocket.v1 (docs/pipeline.md).
+#include <sys/resource.h>
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
@@ -13,11 +15,19 @@ namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
 
+// CPU seconds this process has used (user and system).
+double cpu_s() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
 double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The view's 1 Hz heartbeat: clients, messages sent a second, what it dropped and refused.
 void publish_status(arphys::msg::Bus& bus, const arphys::view::ViewRelay& relay,
-                    const arphys::view::FoxgloveServer& server, double uptime_s, double sent_per_s) {
+                    const arphys::view::FoxgloveServer& server, double uptime_s, double sent_per_s,
+                    double cpu_percent) {
   const arphys::view::ServerCounters c = server.counters();
   arphys::process_status_t status = arphys::msg::heartbeat("view", "foxglove.websocket.v1", uptime_s, bus);
   status.state = "serving";
@@ -30,6 +40,7 @@ void publish_status(arphys::msg::Bus& bus, const arphys::view::ViewRelay& relay,
   arphys::msg::add_figure(status, "port", server.port());
   arphys::msg::add_figure(status, "dropped_slow_clients", static_cast<double>(c.dropped_backlog));
   arphys::msg::add_figure(status, "client_commands", static_cast<double>(c.client_messages));
+  arphys::msg::add_figure(status, "cpu_percent", cpu_percent);
   bus.publish(relay.status_channel(), status);
 }
 
@@ -105,21 +116,23 @@ int main(int argc, char** argv) {
   const double started = now_s();
   double last_status = started;
   int64_t sent_at_status = 0;
+  double cpu_at_status = cpu_s();
   while (!g_stop) {
     bus->handle_timeout_ms(100);
     if (const double t = now_s(); t - last_status >= 1.0) {
-      publish_status(*bus, *relay, *server, t - started,
-                     (server->counters().sent - sent_at_status) / (t - last_status));
+      publish_status(*bus, *relay, *server, t - started, (server->counters().sent - sent_at_status) / (t - last_status),
+                     100 * (cpu_s() - cpu_at_status) / (t - last_status));
       sent_at_status = server->counters().sent;
+      cpu_at_status = cpu_s();
       last_status = t;
     }
   }
   const view::ServerCounters c = server->counters();
   std::fprintf(stderr,
                "arphys-view: %lld clients, %lld messages sent, %lld dropped for slow clients, %lld bad requests, "
-               "%lld inputs refused\n",
+               "%lld inputs refused; cpu %.3f s over %.3f s\n",
                static_cast<long long>(c.clients_total), static_cast<long long>(c.sent),
                static_cast<long long>(c.dropped_backlog), static_cast<long long>(c.bad_requests),
-               static_cast<long long>(relay->refused()));
+               static_cast<long long>(relay->refused()), cpu_s(), now_s() - started);
   return 0;
 }

@@ -13,7 +13,7 @@
 namespace arphys::view {
 
 struct RelayOptions {
-  double image_rate_hz = 15;  // most frames a second per image topic (the newest is sent)
+  double image_rate_hz = 30;  // most frames a second per image topic (the newest is sent)
 };
 
 class ViewRelay {
