@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "simulator/collision/collision_mesh.hpp"
@@ -16,6 +17,10 @@ using geometry::ScrewMotion;
 // smallest step (a fraction of the motion) worth taking: a pair closing slowly from a
 // touch would take thousands.
 constexpr int kMaxSteps = 8;
+// Steps of the vertex-wise bound past a stall (apart_along), each the rest of the motion halved
+// at most kMaxHalvings times.
+constexpr int kMaxVertexSteps = 8;
+constexpr int kMaxHalvings = 4;
 constexpr double kSmallestStep = 0.02;
 // A distance bound that proves two pieces apart whatever the rounding of its computation.
 constexpr double kApart_m = 1e-12;
@@ -50,6 +55,42 @@ double closing_speed_bound(const ConvexPiece& a, const ScrewMotion& motion_A, co
 // The motion from t to 1 of a screw: the same path, its parameter stretched.
 ScrewMotion rest_of(const ScrewMotion& motion, double t) { return ScrewMotion(motion.pose_at(t), motion.end()); }
 
+// A piece's vertices at t as they move along the fixed unit axis n: each one's height along
+// n, its velocity along n and its speed (per unit of the motion's parameter).
+struct AxisReach {
+  std::vector<Eigen::Vector3d> moving;  // (height, n . v, |v|) per vertex
+  double angle_rad = 0;                 // the screw's rate of turn
+  AxisReach(const ConvexPiece& piece, const ScrewMotion& motion, double t, const Eigen::Vector3d& n)
+      : angle_rad(motion.angle_rad()) {
+    const geometry::Pose X = motion.pose_at(t);
+    moving.reserve(piece.vertices_m().size());
+    for (const Eigen::Vector3d& v : piece.vertices_m()) {
+      const Eigen::Vector3d x = X * v;
+      const Eigen::Vector3d velocity = motion.velocity_of_point(x);
+      moving.emplace_back(n.dot(x), n.dot(velocity), velocity.norm());
+    }
+  }
+  // The highest any vertex gets along sign * n over the next s of the motion. A point of a
+  // screw motion moves with a velocity that turns at the screw's rate (the velocity field
+  // is constant in the world), so over s it rises by at most s n.v + s^2 angle |v| / 2.
+  double highest(double sign, double s) const {
+    const double curl = 0.5 * angle_rad * s * s;
+    double most = -std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& m : moving)
+      most = std::max(most, sign * m[0] + std::max(0.0, sign * s * m[1] + curl * m[2]));
+    return most;
+  }
+};
+
+// Whether the pieces stay apart along n over the next s of the motion: the most A's vertices
+// can rise and B's sink. A pair resting on each other and sliding, whose contact points the
+// solve holds (n.v about 0), is proven apart here where the closing-speed bounds of advance()
+// stall on the turn of its farthest points.
+bool apart_along(const AxisReach& a, const AxisReach& b, double s) {
+  const double top_A = a.highest(1, s), bottom_B = -b.highest(-1, s);
+  return bottom_B - top_A > kApart_m + 1e-12 * (std::abs(top_A) + std::abs(bottom_B));
+}
+
 // Advances one piece pair from t = 0 while the gap is at least what kSmallestStep of the
 // undirected bound closes; returns how far the pair is proven apart (1: the whole motion)
 // and whether it is proven apart (not just not touching) there. Each step is bounded along
@@ -60,19 +101,34 @@ double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMot
                const ScrewMotion& motion_B, const PieceMotion& start_B, bool* apart_there) {
   double t = 0;
   *apart_there = false;
+  int vertex_steps = 0;
   for (int step = 0; step < kMaxSteps; ++step) {
-    const PieceMotion at_A = step == 0 ? start_A : piece_motion_at(a, motion_A, t);
-    const PieceMotion at_B = step == 0 ? start_B : piece_motion_at(b, motion_B, t);
+    const PieceMotion at_A = t == 0 ? start_A : piece_motion_at(a, motion_A, t);
+    const PieceMotion at_B = t == 0 ? start_B : piece_motion_at(b, motion_B, t);
     const double speed = closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t);
     const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), speed * (1 - t));
     *apart_there = d.lower_m > kApart_m;
     if (!*apart_there) return t;
     const double along = std::min(speed, closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t, &d.axis_W));
     if (along <= 0 || d.lower_m > along * (1 - t)) return 1.0;
-    // Stalled by the undirected bound: advancing a sliding pair further would hand the
-    // sweep a start its surfaces nearly touch at, where its search is slowest.
-    if (!(d.lower_m > kSmallestStep * speed)) return t;
-    t += d.lower_m / along;
+    if (d.lower_m > kSmallestStep * speed) {
+      t += d.lower_m / along;
+      continue;
+    }
+    // Stalled by the bounds on the farthest points' turn: the vertex-wise bound over the
+    // rest of the motion, or over a half, a quarter ... of it, advances a pair that rests
+    // and slides (its turn closes the gap at second order only). Failing that, the sweep
+    // takes the pair from here.
+    if (++vertex_steps > kMaxVertexSteps) return t;
+    const AxisReach reach_A(a, motion_A, t, d.axis_W), reach_B(b, motion_B, t, d.axis_W);
+    double s = 1 - t;
+    for (int halving = 0; !apart_along(reach_A, reach_B, s); ++halving) {
+      if (halving == kMaxHalvings) return t;
+      s *= 0.5;
+    }
+    if (s == 1 - t) return 1.0;
+    t += s;
+    --step;  // (its own budget)
   }
   return t;
 }
