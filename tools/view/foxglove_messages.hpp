@@ -25,8 +25,9 @@ struct Topic {
 enum TopicId { kCameraImage = 0, kOverlay, kWorld, kTf, kStatus, kLatency, kObjects, kTopicCount };
 const std::vector<Topic>& topics();
 
-// foxglove.CompressedImage of a JPEG frame; a raw frame is encoded to JPEG first. Throws
-// std::invalid_argument saying why for a frame that does not decode.
+// foxglove.CompressedImage of a JPEG frame (passed on as it is); a raw frame is encoded to JPEG
+// first. Throws std::invalid_argument saying why for a raw frame that does not decode or a
+// JPEG one whose size disagrees or that does not start as a JPEG.
 nlohmann::json compressed_image(const arphys::image_t& image, const std::string& frame_id);
 // A process heartbeat (name, state, counters, figures) for plots.
 nlohmann::json status(const arphys::process_status_t& status);

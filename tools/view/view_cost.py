@@ -36,6 +36,8 @@ def main() -> None:
     received = [json.loads((r / "client.json").read_text())["topics"] for r in with_view]
     rows = []
     for stage in stages(without[0]):
+        if any(stages(r)[stage].get("count", 0) == 0 for r in without + with_view):
+            continue  # (a stage no frame crossed in some run)
         row = {"stage": stage}
         for key in ("p50_ms", "p99_ms"):
             row[f"without_{key}"] = statistics.median(stages(r)[stage][key] for r in without)

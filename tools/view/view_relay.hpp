@@ -45,7 +45,10 @@ class ViewRelay {
   config::SceneConfig scene_;
   RelayOptions options_;
   std::unique_ptr<SceneDrawing> drawing_;
-  double last_image_s_[kTopicCount] = {};
+  struct Allowance {
+    double frames = 1, at_s = 0;  // frames that may be sent now, as of at_s
+  };
+  Allowance image_allowance_[kTopicCount];
   int64_t refused_ = 0, rate_limited_ = 0;
   int64_t spawn_seq_ = 0, control_seq_ = 0;
   double last_spawn_s_ = 0;

@@ -74,6 +74,12 @@ TEST(FoxgloveMessages, ImagesAreJpegsOfTheFrameAndBadOnesAreRefused) {
   broken.size = 3;
   broken.data.resize(3);
   EXPECT_THROW(arphys::view::compressed_image(broken, "cam"), std::invalid_argument);
+  arphys::image_t not_jpeg = arphys::msg::encode_image_message(frame, 7, 1, "cam", 90);
+  not_jpeg.data[0] = 0;
+  EXPECT_THROW(arphys::view::compressed_image(not_jpeg, "cam"), std::invalid_argument);
+  not_jpeg.data[0] = 0xff;
+  not_jpeg.size += 1;
+  EXPECT_THROW(arphys::view::compressed_image(not_jpeg, "cam"), std::invalid_argument);
 }
 
 TEST(FoxgloveMessages, TransformsAndObjectsComeFromTheTrackedPoses) {
