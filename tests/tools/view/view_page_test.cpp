@@ -1,6 +1,7 @@
 // The page of arphys-view in headless Chromium during a launched main job (arphys-launch
-// --view): its screenshot shows the overlay stream (the camera's picture, not a blank box) and
-// the 3D world with the virtual bunnies on the tracked table, checked by pixels.
+// --view), shot once it says it has drawn (tools/view/web/screenshot_page.mjs): the screenshot shows the overlay stream
+// (the camera's picture, not a blank box) and the 3D world with the virtual bunnies on the tracked table, checked by
+// pixels.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -38,16 +39,15 @@ TEST(ViewPage, AScreenshotDuringTheMainJobShowsTheOverlayAndTheBodies) {
   const std::string dir = ::testing::TempDir() + "view_page_" + std::to_string(getpid());
   std::filesystem::create_directories(dir);
   const pid_t launch = arphys::testing::spawn_process({std::string(ARPHYS_BINARY_DIR) + "/tools/launch/arphys-launch",
-                                                       "--build", ARPHYS_BINARY_DIR, "--duration", "12", "--lcm-url",
+                                                       "--build", ARPHYS_BINARY_DIR, "--duration", "30", "--lcm-url",
                                                        kUrl, "--view", std::to_string(kPort)});
   ASSERT_GT(launch, 0);
-  std::this_thread::sleep_for(std::chrono::seconds(6));  // running, bunnies spawned and fallen
+  std::this_thread::sleep_for(std::chrono::seconds(5));  // running, bunnies spawned and fallen
   const std::string png = dir + "/page.png";
-  const pid_t browser = arphys::testing::spawn_process(
-      {"chromium", "--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
-       "--user-data-dir=" + dir + "/profile", "--window-size=1300,700", "--virtual-time-budget=3000",
-       "--screenshot=" + png, "http://127.0.0.1:" + std::to_string(kPort) + "/"});
-  ASSERT_GT(browser, 0);
+  // Chromium, driven by puppeteer-core, shoots once the page has shown overlay frames and bodies.
+  const pid_t browser =
+      arphys::testing::spawn_process({"node", std::string(ARPHYS_SOURCE_DIR) + "/tools/view/web/screenshot_page.mjs",
+                                      "http://127.0.0.1:" + std::to_string(kPort) + "/", png, "40"});
   const bool shot = finished_ok(browser, 90);
   arphys::testing::stop_process(launch);
   ASSERT_TRUE(shot) << "chromium did not take the screenshot";

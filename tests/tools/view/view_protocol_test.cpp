@@ -87,6 +87,14 @@ void junk_clients() {
   }
 }
 
+// Keeps the view's newest heartbeat in `status`.
+void keep_view_status(arphys::msg::Bus& bus, std::optional<arphys::process_status_t>& status) {
+  bus.subscribe<arphys::process_status_t>(
+      "ARPHYS_STATUS", [&status](const arphys::process_status_t& s, const lcm::ReceiveBuffer&, const std::string&) {
+        if (s.name == "view") status = s;
+      });
+}
+
 // Stops a spawned process however the test ends (ctest waits for every child of a test).
 struct Stopped {
   pid_t pid;
@@ -104,10 +112,7 @@ TEST(ViewProtocol, TheOfficialClientDecodesWhatTheBusCarried) {
   ASSERT_GT(view, 0);
   Stopped view_guard{view};
   std::optional<arphys::process_status_t> view_status;
-  bus.subscribe<arphys::process_status_t>(
-      "ARPHYS_STATUS", [&](const arphys::process_status_t& s, const lcm::ReceiveBuffer&, const std::string&) {
-        if (s.name == "view") view_status = s;
-      });
+  keep_view_status(bus, view_status);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   junk_clients();
   const std::string out = ::testing::TempDir() + "view_protocol_" + std::to_string(getpid()) + ".json";
@@ -202,10 +207,7 @@ TEST(ViewProtocol, AHundredClientsComingAndGoingAndAStalledOneLeaveTheViewServin
   ASSERT_GT(view, 0);
   Stopped view_guard{view};
   std::optional<arphys::process_status_t> view_status;
-  bus.subscribe<arphys::process_status_t>(
-      "ARPHYS_STATUS", [&](const arphys::process_status_t& s, const lcm::ReceiveBuffer&, const std::string&) {
-        if (s.name == "view") view_status = s;
-      });
+  keep_view_status(bus, view_status);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   const std::string out = ::testing::TempDir() + "view_load_" + std::to_string(getpid()) + ".json";
   const pid_t load = arphys::testing::spawn_process(
