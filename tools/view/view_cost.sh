@@ -30,7 +30,8 @@ for k in $(seq 1 "$pairs"); do
       "$root/tools/arphys-launch" --duration "$duration" --out "$raw/$mode-$k" --view "$port" >/dev/null 2>&1 &
       launch=$!
       sleep 3
-      node "$root/tools/view/web/record_client.mjs" "ws://127.0.0.1:$port" "$((duration - 4))" "$raw/$mode-$k/client.json"
+      # The client stands for a viewer elsewhere: it yields to the pipeline, as the view does.
+      nice -n 19 node "$root/tools/view/web/record_client.mjs" "ws://127.0.0.1:$port" "$((duration - 4))" "$raw/$mode-$k/client.json"
       wait "$launch"
     fi
   done

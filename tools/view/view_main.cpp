@@ -69,6 +69,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->default_str("8");
   bool allow_spawn = false, allow_replay_control = false;
+  int nice_increment = 10;
   std::string replay_control_channel = "ARPHYS_REPLAY_CONTROL";
   app.add_flag(
       "--allow-spawn", allow_spawn,
@@ -76,6 +77,10 @@ int main(int argc, char** argv) {
   app.add_flag("--allow-replay-control", allow_replay_control,
                "let clients pause, step, seek and change the rate of arphys-replay on /replay_control");
   app.add_option("--replay-control-channel", replay_control_channel, "arphys-replay's --control-channel")
+      ->capture_default_str();
+  app.add_option("--nice", nice_increment,
+                 "lower this process's scheduling priority by this much: a monitor yields to the pipeline it watches")
+      ->check(CLI::Range(0, 19))
       ->capture_default_str();
   app.add_option("--web-dir", web_dir, "the page's files (index.html, its script, node_modules/three)")
       ->capture_default_str();
@@ -108,6 +113,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "arphys-view: %s\n", e.what());
     return 2;
   }
+  if (nice_increment > 0 && setpriority(PRIO_PROCESS, 0, getpriority(PRIO_PROCESS, 0) + nice_increment) != 0)
+    std::fprintf(stderr, "arphys-view: cannot lower its priority (--nice %d); going on\n", nice_increment);
   std::signal(SIGINT, [](int) { g_stop = 1; });
   std::signal(SIGTERM, [](int) { g_stop = 1; });
   std::printf("arphys-view: http://%s:%d/ (the page; ws:// for Foxglove and Lichtblick, foxglove.websocket.v1)\n",
