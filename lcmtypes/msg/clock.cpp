@@ -9,4 +9,6 @@ int64_t now_utime() {
   return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
 }
 
+double steady_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
 }  // namespace arphys::msg

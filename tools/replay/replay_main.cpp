@@ -12,6 +12,7 @@
 
 #include "arphys/replay_control_t.hpp"
 #include "configs/loader/scene_config.hpp"
+#include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/frame_order.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "tools/replay/log_player.hpp"
@@ -21,8 +22,6 @@ namespace {
 using namespace arphys;
 
 volatile std::sig_atomic_t g_stop = 0;
-
-double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The terminal in single-key mode while it lives (when stdin is one).
 struct Keys {
@@ -49,7 +48,7 @@ struct Keys {
 // unknown one or a bad value (the caller counts it).
 bool apply(replay::LogPlayer& player, const std::string& command, double value, const std::string& frame_channel,
            const replay::LogPlayer::Publish& publish) {
-  const double t = now_s();
+  const double t = msg::steady_s();
   if (command == "pause")
     player.pause(t);
   else if (command == "resume")
@@ -124,7 +123,7 @@ int main(int argc, char** argv) {
   std::fprintf(stderr, "arphys-replay: %s, %lld events over %.2f s onto %s%s\n", log.c_str(),
                static_cast<long long>(player->events()), player->duration_s(), url.c_str(),
                keys.on ? " (keys: space n [ ] - + q)" : "");
-  const double started = now_s();
+  const double started = msg::steady_s();
   int64_t published_at_status = 0;
   double status_at = started;
   const auto publish_status = [&](double t) {
@@ -145,7 +144,7 @@ int main(int argc, char** argv) {
   if (!start_paused) player->resume(started);
   double last_status = -1, last_report = started;
   while (!g_stop && (hold || !player->finished())) {
-    const double wait_s = player->play(now_s(), publish);
+    const double wait_s = player->play(msg::steady_s(), publish);
     for (int key; (key = keys.read_key()) >= 0;) {
       if (key == 'q') g_stop = 1;
       const bool applied =
@@ -158,7 +157,7 @@ int main(int argc, char** argv) {
                  publish));
       if (applied) report(*player);
     }
-    const double t = now_s();
+    const double t = msg::steady_s();
     if (t - last_status >= 1.0) {
       publish_status(t);
       last_status = t;
@@ -169,7 +168,7 @@ int main(int argc, char** argv) {
     }
     bus->handle_timeout_ms(static_cast<int>(std::clamp(wait_s * 1000, 0.0, 20.0)));
   }
-  publish_status(now_s());  // the last word: finished (or stopped) and where
+  publish_status(msg::steady_s());  // the last word: finished (or stopped) and where
   report(*player);
   return 0;
 }

@@ -30,10 +30,8 @@ const json kNumber = {{"type", "number"}};
 const json kString = {{"type", "string"}};
 json time_schema() { return object_of({{"sec", {{"type", "integer"}}}, {"nsec", {{"type", "integer"}}}}); }
 json xyz_schema() { return object_of({{"x", kNumber}, {"y", kNumber}, {"z", kNumber}}); }
-json pose_schema() {
-  return object_of({{"position", xyz_schema()},
-                    {"orientation", object_of({{"x", kNumber}, {"y", kNumber}, {"z", kNumber}, {"w", kNumber}})}});
-}
+json quaternion_schema() { return object_of({{"x", kNumber}, {"y", kNumber}, {"z", kNumber}, {"w", kNumber}}); }
+json pose_schema() { return object_of({{"position", xyz_schema()}, {"orientation", quaternion_schema()}}); }
 json array_of(json items) { return {{"type", "array"}, {"items", std::move(items)}}; }
 
 std::string image_schema() {
@@ -77,12 +75,11 @@ std::string scene_update_schema() {
 }
 
 std::string transforms_schema() {
-  const json transform =
-      object_of({{"timestamp", time_schema()},
-                 {"parent_frame_id", kString},
-                 {"child_frame_id", kString},
-                 {"translation", xyz_schema()},
-                 {"rotation", object_of({{"x", kNumber}, {"y", kNumber}, {"z", kNumber}, {"w", kNumber}})}});
+  const json transform = object_of({{"timestamp", time_schema()},
+                                    {"parent_frame_id", kString},
+                                    {"child_frame_id", kString},
+                                    {"translation", xyz_schema()},
+                                    {"rotation", quaternion_schema()}});
   return object_of({{"transforms", array_of(transform)}}).dump();
 }
 

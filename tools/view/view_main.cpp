@@ -7,6 +7,7 @@
 #include <csignal>
 #include <cstdio>
 
+#include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/heartbeat.hpp"
 #include "tools/view/foxglove_server.hpp"
 #include "tools/view/view_relay.hpp"
@@ -21,8 +22,6 @@ double cpu_s() {
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
-
-double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // The view's 1 Hz heartbeat: clients, messages sent a second, what it dropped and refused.
 void publish_status(arphys::msg::Bus& bus, const arphys::view::ViewRelay& relay,
@@ -120,13 +119,13 @@ int main(int argc, char** argv) {
   std::printf("arphys-view: http://%s:%d/ (the page; ws:// for Foxglove and Lichtblick, foxglove.websocket.v1)\n",
               server_options.host.c_str(), server->port());
   std::fflush(stdout);
-  const double started = now_s();
+  const double started = msg::steady_s();
   double last_status = started;
   int64_t sent_at_status = 0;
   double cpu_at_status = cpu_s();
   while (!g_stop) {
     bus->handle_timeout_ms(100);
-    if (const double t = now_s(); t - last_status >= 1.0) {
+    if (const double t = msg::steady_s(); t - last_status >= 1.0) {
       publish_status(*bus, *relay, *server, t - started, (server->counters().sent - sent_at_status) / (t - last_status),
                      100 * (cpu_s() - cpu_at_status) / (t - last_status));
       sent_at_status = server->counters().sent;
@@ -140,6 +139,6 @@ int main(int argc, char** argv) {
                "%lld inputs refused; cpu %.3f s over %.3f s\n",
                static_cast<long long>(c.clients_total), static_cast<long long>(c.sent),
                static_cast<long long>(c.dropped_backlog), static_cast<long long>(c.bad_requests),
-               static_cast<long long>(relay->refused()), cpu_s(), now_s() - started);
+               static_cast<long long>(relay->refused()), cpu_s(), msg::steady_s() - started);
   return 0;
 }

@@ -9,17 +9,14 @@
 
 #include "arphys/replay_control_t.hpp"
 #include "arphys/sim_command_t.hpp"
+#include "lcmtypes/msg/clock.hpp"
 #include "lcmtypes/msg/pose_conversions.hpp"
 
 namespace arphys::view {
 namespace {
 
-uint64_t now_ns() {
-  return static_cast<uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
-}
-double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+// The Message Data frame's receive time.
+uint64_t now_ns() { return static_cast<uint64_t>(msg::now_utime()) * 1000; }
 
 }  // namespace
 
@@ -40,7 +37,7 @@ void ViewRelay::image(FoxgloveServer& server, int topic, const arphys::image_t& 
   if (!server.subscribed(topic)) return;
   // A token bucket: the rate on average, a frame early by the camera's jitter still sent
   // (spacing alone sent 20 of a 30 FPS camera's frames at a 30 Hz limit).
-  const double t = now_s();
+  const double t = msg::steady_s();
   Allowance& a = image_allowance_[topic];
   a.frames = std::min(2.0, a.frames + (t - a.at_s) * options_.image_rate_hz);
   a.at_s = t;
@@ -110,11 +107,11 @@ std::string ViewRelay::spawn(msg::Bus& bus, const std::string& payload) {
     return "not a dynamic virtual model of the scene (spawnable: " + spawnable_models() + ")";
   if (!p.allFinite() || p.norm() > 10 || !v.allFinite() || v.norm() > 20)
     return "position beyond 10 m or velocity beyond 20 m/s, or not finite";
-  const double t = now_s();
+  const double t = msg::steady_s();
   if (t - last_spawn_s_ < 0.1) return "more than 10 spawns a second";
   last_spawn_s_ = t;
   arphys::sim_command_t command{};
-  command.utime = static_cast<int64_t>(now_ns() / 1000);
+  command.utime = msg::now_utime();
   command.seq = ++spawn_seq_;
   command.sender = "view";
   command.command = arphys::sim_command_t::COMMAND_SPAWN;
@@ -140,7 +137,7 @@ std::string ViewRelay::replay_control(msg::Bus& bus, const std::string& channel,
   if (std::find(std::begin(kCommands), std::end(kCommands), control.command) == std::end(kCommands))
     return "unknown command '" + control.command + "' (pause, resume, toggle, step, seek, rate)";
   if (!std::isfinite(control.value)) return "value not finite";
-  control.utime = static_cast<int64_t>(now_ns() / 1000);
+  control.utime = msg::now_utime();
   control.seq = ++control_seq_;
   control.sender = "view";
   bus.publish(channel, control);

@@ -26,8 +26,18 @@ const drawn = new THREE.Group();
 scene.add(drawn);
 const models = new Map();  // url -> loaded Object3D (null while loading)
 
-const material = (c) =>
-  new THREE.MeshStandardMaterial({ color: new THREE.Color(c.r, c.g, c.b), transparent: c.a < 1, opacity: c.a });
+// Each update redraws every body: geometries and materials are made once per size and colour
+// and reused (made anew 50 times a second, they filled the GPU's memory: three.js frees them
+// only on dispose()).
+const made = new Map();
+function once(key, make) {
+  if (!made.has(key)) made.set(key, make());
+  return made.get(key);
+}
+const material = (c) => once(`m ${c.r} ${c.g} ${c.b} ${c.a}`, () =>
+  new THREE.MeshStandardMaterial({ color: new THREE.Color(c.r, c.g, c.b), transparent: c.a < 1, opacity: c.a }));
+const box = (s) => once(`b ${s.x} ${s.y} ${s.z}`, () => new THREE.BoxGeometry(s.x, s.y, s.z));
+const ball = (d) => once(`s ${d}`, () => new THREE.SphereGeometry(d / 2, 24, 16));
 function place(object, pose) {
   object.position.set(pose.position.x, pose.position.y, pose.position.z);
   object.quaternion.set(pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w);
@@ -42,17 +52,22 @@ function model(url) {
 
 // A foxglove.SceneUpdate replaces what is drawn (arphys sends every body in each update).
 function drawScene(update) {
+  // The contact arrows' own materials (their geometries are three.js's, shared by all arrows).
+  for (const arrow of drawn.children.filter((c) => c.type === "ArrowHelper")) {
+    arrow.line.material.dispose();
+    arrow.cone.material.dispose();
+  }
   drawn.clear();
   let bodies = 0;
   for (const entity of update.entities) {
     for (const cube of entity.cubes ?? []) {
-      const mesh = new THREE.Mesh(new THREE.BoxGeometry(cube.size.x, cube.size.y, cube.size.z), material(cube.color));
+      const mesh = new THREE.Mesh(box(cube.size), material(cube.color));
       place(mesh, cube.pose);
       drawn.add(mesh);
       bodies++;
     }
     for (const sphere of entity.spheres ?? []) {
-      const mesh = new THREE.Mesh(new THREE.SphereGeometry(sphere.size.x / 2, 24, 16), material(sphere.color));
+      const mesh = new THREE.Mesh(ball(sphere.size.x), material(sphere.color));
       place(mesh, sphere.pose);
       drawn.add(mesh);
       bodies++;
