@@ -1,5 +1,6 @@
 #include "simulator/collision/convex_manifold.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -12,6 +13,8 @@ namespace {
 
 using Eigen::Vector3d;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// The cosine above which an edge pair's axis is taken for a face's normal (half a degree).
+constexpr double kFaceInDisguise = 0.99996;
 
 // A piece placed in A's frame: its vertices, face planes and centroid there.
 struct Placed {
@@ -50,47 +53,55 @@ struct EdgeAxis {
   Vector3d axis = Vector3d::Zero();
 };
 
-// The edge pair with the largest gap among those whose Gauss map arcs cross (faces of
-// the Minkowski difference): only they can carry the axis of least penetration.
+// An edge's arc on the Gauss map: its two faces' normals n1, n2 (negated for B, whose
+// normals enter the Minkowski difference B - A turned around) and n2 x n1.
+struct Arc {
+  Vector3d n1, n2, n2xn1;
+};
+Arc arc_of(const Placed& piece, int edge, double sign) {
+  const ConvexPiece::Edge& e = piece.piece.edges()[edge];
+  const Vector3d n1 = sign * piece.n[e.face_left], n2 = sign * piece.n[e.face_right];
+  return {n1, n2, n2.cross(n1)};
+}
+
+// The axis of A's edge i and B's edge j if their Gauss map arcs cross (a face of the
+// Minkowski difference, the only edge pairs that can carry the axis of least penetration),
+// with the gap along it.
+inline bool crossing_edge_axis(const Placed& A, int i, const Arc& arc_A, const Placed& B, int j, const Arc& arc_B,
+                               EdgeAxis* out) {
+  const double cba = arc_B.n1.dot(arc_A.n2xn1), dba = arc_B.n2.dot(arc_A.n2xn1);
+  if (cba * dba >= 0) return false;
+  const double adc = arc_A.n1.dot(arc_B.n2xn1), bdc = arc_A.n2.dot(arc_B.n2xn1);
+  if (adc * bdc >= 0 || cba * bdc <= 0) return false;
+  const ConvexPiece::Edge& ea = A.piece.edges()[i];
+  const ConvexPiece::Edge& eb = B.piece.edges()[j];
+  const Vector3d pa = A.v[ea.v0], da = A.v[ea.v1] - pa;
+  const Vector3d pb = B.v[eb.v0], db = B.v[eb.v1] - pb;
+  Vector3d axis = da.cross(db);
+  const double length = axis.norm();
+  if (length < 1e-9 * da.norm() * db.norm()) return false;  // parallel edges: the faces cover them
+  axis /= length;
+  if (axis.dot(pa - A.centroid) < 0) axis = -axis;
+  *out = {axis.dot(pb - pa), i, j, axis};
+  return true;
+}
+
+// The edge pair with the largest gap among those whose Gauss map arcs cross.
 EdgeAxis best_edge_pair(const Placed& A, const Placed& B, double tolerance) {
   EdgeAxis best;
-  const auto& ea = A.piece.edges();
-  const auto& eb = B.piece.edges();
-  // B's arcs once (negated normals and their cross product), not once per edge of A.
-  struct Arc {
-    Vector3d c, d, dxc;
-  };
-  thread_local std::vector<Arc> arcs;
-  arcs.resize(eb.size());
-  for (std::size_t j = 0; j < eb.size(); ++j) {
-    arcs[j].c = -B.n[eb[j].face_left];
-    arcs[j].d = -B.n[eb[j].face_right];
-    arcs[j].dxc = arcs[j].d.cross(arcs[j].c);
-  }
-  for (int i = 0; i < static_cast<int>(ea.size()); ++i) {
-    const Vector3d& a = A.n[ea[i].face_left];
-    const Vector3d& b = A.n[ea[i].face_right];
-    const Vector3d bxa = b.cross(a);
-    const Vector3d pa = A.v[ea[i].v0], da = A.v[ea[i].v1] - pa;
-    for (int j = 0; j < static_cast<int>(eb.size()); ++j) {
-      const Vector3d& c = arcs[j].c;
-      const Vector3d& d = arcs[j].d;
-      const double cba = c.dot(bxa), dba = d.dot(bxa);
-      if (cba * dba >= 0) continue;
-      const Vector3d& dxc = arcs[j].dxc;
-      const double adc = a.dot(dxc), bdc = b.dot(dxc);
-      if (adc * bdc >= 0 || cba * bdc <= 0) continue;
-      const Vector3d pb = B.v[eb[j].v0], db = B.v[eb[j].v1] - pb;
-      Vector3d axis = da.cross(db);
-      const double length = axis.norm();
-      if (length < 1e-9 * da.norm() * db.norm()) continue;  // parallel edges: the faces cover them
-      axis /= length;
-      if (axis.dot(pa - A.centroid) < 0) axis = -axis;
-      const double gap = axis.dot(pb - pa);
-      if (gap > best.gap) best = {gap, i, j, axis};
-      if (gap > tolerance) return best;
+  // Each edge's arc once, not once per edge pair.
+  thread_local std::vector<Arc> arcs_A, arcs_B;
+  arcs_A.resize(A.piece.edges().size());
+  arcs_B.resize(B.piece.edges().size());
+  for (std::size_t i = 0; i < arcs_A.size(); ++i) arcs_A[i] = arc_of(A, static_cast<int>(i), 1);
+  for (std::size_t j = 0; j < arcs_B.size(); ++j) arcs_B[j] = arc_of(B, static_cast<int>(j), -1);
+  for (int i = 0; i < static_cast<int>(arcs_A.size()); ++i)
+    for (int j = 0; j < static_cast<int>(arcs_B.size()); ++j) {
+      EdgeAxis edge;
+      if (!crossing_edge_axis(A, i, arcs_A[i], B, j, arcs_B[j], &edge)) continue;
+      if (edge.gap > best.gap) best = edge;
+      if (edge.gap > tolerance) return best;
     }
-  }
   return best;
 }
 
@@ -137,6 +148,75 @@ void face_contact(const Placed& ref, int f, const Placed& inc, bool ref_is_A, do
   }
 }
 
+// The point of an edge-edge contact: false, and nothing added, when the closest points lie
+// at an end of either edge (the nearest features are then a vertex and something else,
+// which a face axis answers better).
+bool edge_contact(const Placed& a, const Placed& b, const EdgeAxis& edge, const geometry::Pose& X_WA,
+                  double tolerance_m, const std::pair<int, int>& pieces, std::vector<ManifoldPoint>* points) {
+  const ConvexPiece::Edge& ea = a.piece.edges()[edge.edge_A];
+  const ConvexPiece::Edge& eb = b.piece.edges()[edge.edge_B];
+  Vector3d pa, pb;
+  segment_segment_distance(a.v[ea.v0], a.v[ea.v1], b.v[eb.v0], b.v[eb.v1], &pa, &pb);
+  const auto inside = [](const Vector3d& p, const Vector3d& p0, const Vector3d& p1) {
+    const double s = (p - p0).dot(p1 - p0) / (p1 - p0).squaredNorm();
+    return s > 1e-9 && s < 1 - 1e-9;
+  };
+  if (!inside(pa, a.v[ea.v0], a.v[ea.v1]) || !inside(pb, b.v[eb.v0], b.v[eb.v1])) return false;
+  const double distance = edge.axis.dot(pb - pa);
+  if (distance <= tolerance_m)
+    points->push_back({X_WA * pa, X_WA * pb, X_WA.linear() * edge.axis, distance, {pieces.first, pieces.second}});
+  return true;
+}
+
+// Apart, the pieces' largest separation is their distance, along GJK's axis u. Where no face
+// comes within rounding of it, the closest features are two edges, each through its piece's
+// support vertex along u: of the edge pairs through those two vertices, the one whose axis
+// carries the distance (of all edge pairs, another could be better only by rounding).
+// edge_A < 0: none does.
+EdgeAxis edge_pair_at_distance(const Placed& a, const Placed& b, const ConvexDistance& distance,
+                               const geometry::Pose& X_WA) {
+  const Vector3d u = X_WA.linear().transpose() * distance.axis_W;  // A's frame, from A towards B
+  const auto support = [](const Placed& piece, const Vector3d& direction) {
+    int best = 0;
+    for (int k = 1; k < static_cast<int>(piece.v.size()); ++k)
+      if (piece.v[k].dot(direction) > piece.v[best].dot(direction)) best = k;
+    return best;
+  };
+  const int vertex_A = support(a, u), vertex_B = support(b, -u);
+  const auto through = [](const ConvexPiece::Edge& e, int vertex) { return e.v0 == vertex || e.v1 == vertex; };
+  EdgeAxis best;
+  for (int j = 0; j < static_cast<int>(b.piece.edges().size()); ++j) {
+    if (!through(b.piece.edges()[j], vertex_B)) continue;
+    const Arc arc_B = arc_of(b, j, -1);
+    for (int i = 0; i < static_cast<int>(a.piece.edges().size()); ++i) {
+      EdgeAxis edge;
+      if (through(a.piece.edges()[i], vertex_A) && crossing_edge_axis(a, i, arc_of(a, i, 1), b, j, arc_B, &edge) &&
+          edge.gap > best.gap)
+        best = edge;
+    }
+  }
+  const double margin = 1e-9 + 1e-6 * std::abs(distance.upper_m) + (distance.upper_m - distance.lower_m);
+  return best.gap + margin >= distance.upper_m ? best : EdgeAxis{};
+}
+
+// Whether the boxes (a: A's frame, b: B's frame, X_AB: B in A) are further apart than
+// tolerance_m along one of their six face axes.
+bool boxes_apart(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b, const geometry::Pose& X_AB,
+                 double tolerance_m) {
+  const Eigen::Matrix3d& R = X_AB.linear();
+  const Vector3d half_a = 0.5 * a.sizes(), half_b = 0.5 * b.sizes();
+  const Vector3d d_A = X_AB * b.center() - a.center();  // centre to centre, A's frame
+  const Eigen::Matrix3d R_abs = R.cwiseAbs();
+  const Vector3d reach_b_in_A = R_abs * half_b;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(d_A[k]) - half_a[k] - reach_b_in_A[k] > tolerance_m) return true;
+  const Vector3d d_B = R.transpose() * d_A;
+  const Vector3d reach_a_in_B = R_abs.transpose() * half_a;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(d_B[k]) - half_b[k] - reach_a_in_B[k] > tolerance_m) return true;
+  return false;
+}
+
 }  // namespace
 
 std::vector<Eigen::Vector3d> clip_to_half_space(const std::vector<Eigen::Vector3d>& polygon, const Eigen::Vector3d& n,
@@ -160,6 +240,7 @@ void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_
   if (distance.lower_m > tolerance_m) return;
   const Placed a(A, geometry::Pose::Identity());
   const Placed b(B, X_WA.inverse() * X_WB);
+  const std::pair<int, int> pieces{index_A, index_B};
   const auto [gap_A, face_A] = best_face(a, b, tolerance_m);
   if (gap_A > tolerance_m) return;
   const auto [gap_B, face_B] = best_face(b, a, tolerance_m);
@@ -176,28 +257,18 @@ void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_
   // comes within the margin of GJK's upper bound on it, no edge pair can be clearly better
   // and the edge pairs (most of this function's time in a resting pile) are not searched.
   const bool face_is_the_distance = best_face_gap >= 0 && best_face_gap + margin >= distance.upper_m;
-  const EdgeAxis edge = face_is_the_distance ? EdgeAxis{} : best_edge_pair(a, b, tolerance_m);
-  if (edge.gap > tolerance_m) return;
-  const std::pair<int, int> pieces{index_A, index_B};
-  const Eigen::Vector3d& face_normal = face_of_B ? b.n[face_B] : a.n[face_A];
-  if (edge.edge_A >= 0 && edge.gap > best_face_gap + margin && std::abs(face_normal.dot(edge.axis)) < 0.99996) {
-    const ConvexPiece::Edge& ea = A.edges()[edge.edge_A];
-    const ConvexPiece::Edge& eb = B.edges()[edge.edge_B];
-    Vector3d pa, pb;
-    segment_segment_distance(a.v[ea.v0], a.v[ea.v1], b.v[eb.v0], b.v[eb.v1], &pa, &pb);
-    const auto inside = [](const Vector3d& p, const Vector3d& p0, const Vector3d& p1) {
-      const double s = (p - p0).dot(p1 - p0) / (p1 - p0).squaredNorm();
-      return s > 1e-9 && s < 1 - 1e-9;
-    };
-    // Closest points at an end of either edge: the nearest features are a vertex and
-    // something else, which the face axis answers better.
-    if (inside(pa, a.v[ea.v0], a.v[ea.v1]) && inside(pb, b.v[eb.v0], b.v[eb.v1])) {
-      const double distance = edge.axis.dot(pb - pa);
-      if (distance <= tolerance_m)
-        points->push_back({X_WA * pa, X_WA * pb, X_WA.linear() * edge.axis, distance, {index_A, index_B}});
-      return;
-    }
+  EdgeAxis edge;
+  if (!face_is_the_distance) {
+    // Apart, the closest edges are found through the support vertices (the search over every
+    // edge pair was most of this function's time in a tumbling pile); overlapping, searched.
+    if (distance.lower_m > 0) edge = edge_pair_at_distance(a, b, distance, X_WA);
+    if (edge.edge_A < 0) edge = best_edge_pair(a, b, tolerance_m);
   }
+  if (edge.gap > tolerance_m) return;
+  const Eigen::Vector3d& face_normal = face_of_B ? b.n[face_B] : a.n[face_A];
+  if (edge.edge_A >= 0 && edge.gap > best_face_gap + margin && std::abs(face_normal.dot(edge.axis)) < kFaceInDisguise &&
+      edge_contact(a, b, edge, X_WA, tolerance_m, pieces, points))
+    return;
   const bool overlap = std::max(best_face_gap, edge.gap) < 0;
   if (face_of_B)
     face_contact(b, face_B, a, false, gap_B, overlap, tolerance_m, X_WA, pieces, points);
@@ -208,12 +279,16 @@ void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_
 std::vector<ManifoldPoint> convex_set_manifold(const ConvexSet& A, const geometry::Pose& X_WA, const ConvexSet& B,
                                                const geometry::Pose& X_WB, double tolerance_m) {
   std::vector<ManifoldPoint> points;
+  // The pieces' balls, then their boxes, before GJK: most
+  // piece pairs of two bodies in contact are further apart than the tolerance.
+  const geometry::Pose X_AB = X_WA.inverse() * X_WB;
   for (int i = 0; i < static_cast<int>(A.pieces.size()); ++i) {
     const ConvexPiece& pa = A.pieces[i];
-    const Vector3d ca = X_WA * pa.centroid_m();
     for (int j = 0; j < static_cast<int>(B.pieces.size()); ++j) {
       const ConvexPiece& pb = B.pieces[j];
-      if ((X_WB * pb.centroid_m() - ca).norm() - pa.radius_m() - pb.radius_m() > tolerance_m) continue;
+      const Vector3d cb_A = X_AB * pb.centroid_m();
+      if ((cb_A - pa.centroid_m()).norm() - pa.radius_m() - pb.radius_m() > tolerance_m) continue;
+      if (boxes_apart(pa.box_m(), pb.box_m(), X_AB, tolerance_m)) continue;
       convex_manifold(pa, i, X_WA, pb, j, X_WB, tolerance_m, &points);
     }
   }

@@ -143,6 +143,7 @@ ConvexPiece::ConvexPiece(geometry::TriangleMesh mesh) {
   for (const Vector3d& v : hull_.vertices_m) centroid_m_ += v;
   centroid_m_ /= static_cast<double>(hull_.num_vertices());
   for (const Vector3d& v : hull_.vertices_m) radius_m_ = std::max(radius_m_, (v - centroid_m_).norm());
+  for (const Vector3d& v : hull_.vertices_m) box_m_.extend(v);
   half_thickness_m_ = std::numeric_limits<double>::infinity();
   for (const Face& face : faces_) {
     double lowest = std::numeric_limits<double>::infinity();

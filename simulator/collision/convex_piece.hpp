@@ -4,11 +4,11 @@
 // come from separating axes with signed depths, not from every triangle pair of a scan.
 // A piece is built from its closed hull mesh and refused, with the reason, when it is
 // not one.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "simulator/geometry/triangle_mesh.hpp"
 
@@ -40,6 +40,8 @@ class ConvexPiece {
   const Eigen::Vector3d& centroid_m() const { return centroid_m_; }
   // Radius about the centroid containing every vertex.
   double radius_m() const { return radius_m_; }
+  // The box of its vertices (body frame).
+  const Eigen::AlignedBox3d& box_m() const { return box_m_; }
   // Half the smallest width over the face normals: no point moving less than half of
   // it can pass through the piece.
   double half_thickness_m() const { return half_thickness_m_; }
@@ -52,6 +54,7 @@ class ConvexPiece {
   std::vector<Face> faces_;
   std::vector<Edge> edges_;
   Eigen::Vector3d centroid_m_ = Eigen::Vector3d::Zero();
+  Eigen::AlignedBox3d box_m_;
   double radius_m_ = 0, half_thickness_m_ = 0, volume_m3_ = 0;
 };
 

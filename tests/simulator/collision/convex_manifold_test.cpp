@@ -2,6 +2,8 @@
 // manifold gives; on the bunny's pieces the pruned axes (Gauss map) find the depth that
 // every face normal and every edge pair's cross product finds; planes and spheres get
 // signed distances.
+#include "simulator/collision/convex_manifold.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,8 +11,9 @@
 #include <random>
 
 #include "simulator/collision/box_box_manifold.hpp"
-#include "simulator/collision/convex_manifold.hpp"
+#include "simulator/collision/convex_distance.hpp"
 #include "simulator/collision/shape_query.hpp"
+#include "simulator/collision/triangle_distance.hpp"
 #include "tests/support/poses.hpp"
 
 namespace arphys::collision {
@@ -31,7 +34,13 @@ double deepest(const std::vector<ManifoldPoint>& points) {
 // The largest gap over every candidate axis, unpruned: every face normal of either piece
 // and the cross product of every edge pair (the exact separation of two convex polyhedra
 // where it is negative: minus their penetration depth).
-double brute_force_gap(const ConvexPiece& A, const Pose& X_WA, const ConvexPiece& B, const Pose& X_WB) {
+struct Gaps {
+  double faces = -std::numeric_limits<double>::infinity(), edges = -std::numeric_limits<double>::infinity();
+  Eigen::Vector3d edge_axis_W = Eigen::Vector3d::Zero();  // the best edge pair's, from A towards B
+  Eigen::Vector3d face_normal_W = Eigen::Vector3d::Zero();
+  bool edges_closest_inside = false;  // the best edge pair's closest points lie inside both edges
+};
+Gaps brute_force_gaps(const ConvexPiece& A, const Pose& X_WA, const ConvexPiece& B, const Pose& X_WB) {
   std::vector<Eigen::Vector3d> va, vb;
   for (const auto& v : A.vertices_m()) va.push_back(X_WA * v);
   for (const auto& v : B.vertices_m()) vb.push_back(X_WB * v);
@@ -41,15 +50,39 @@ double brute_force_gap(const ConvexPiece& A, const Pose& X_WA, const ConvexPiece
     for (const auto& v : vb) b_lo = std::min(b_lo, n.dot(v)), b_hi = std::max(b_hi, n.dot(v));
     return std::max(b_lo - a_hi, a_lo - b_hi);
   };
-  double gap = -std::numeric_limits<double>::infinity();
-  for (const auto& f : A.faces()) gap = std::max(gap, gap_along(X_WA.linear() * f.normal));
-  for (const auto& f : B.faces()) gap = std::max(gap, gap_along(X_WB.linear() * f.normal));
+  Gaps gaps;
+  const auto face = [&](const Eigen::Vector3d& n_W) {
+    if (const double gap = gap_along(n_W); gap > gaps.faces) {
+      gaps.faces = gap;
+      gaps.face_normal_W = n_W;
+    }
+  };
+  for (const auto& f : A.faces()) face(X_WA.linear() * f.normal);
+  for (const auto& f : B.faces()) face(X_WB.linear() * f.normal);
   for (const auto& ea : A.edges())
     for (const auto& eb : B.edges()) {
       const Eigen::Vector3d c = (va[ea.v1] - va[ea.v0]).cross(vb[eb.v1] - vb[eb.v0]);
-      if (c.norm() > 1e-9) gap = std::max(gap, gap_along(c.normalized()));
+      if (c.norm() <= 1e-9) continue;
+      if (const double gap = gap_along(c.normalized()); gap > gaps.edges) {
+        gaps.edges = gap;
+        gaps.edge_axis_W = c.normalized();
+        Eigen::Vector3d pa, pb;
+        segment_segment_distance(va[ea.v0], va[ea.v1], vb[eb.v0], vb[eb.v1], &pa, &pb);
+        const auto inside = [](const Eigen::Vector3d& p, const Eigen::Vector3d& p0, const Eigen::Vector3d& p1) {
+          const double s = (p - p0).dot(p1 - p0) / (p1 - p0).squaredNorm();
+          return s > 1e-6 && s < 1 - 1e-6;
+        };
+        gaps.edges_closest_inside = inside(pa, va[ea.v0], va[ea.v1]) && inside(pb, vb[eb.v0], vb[eb.v1]);
+      }
     }
-  return gap;
+  const Eigen::Vector3d centre_A = X_WA * A.centroid_m(), centre_B = X_WB * B.centroid_m();
+  if (gaps.edge_axis_W.dot(centre_B - centre_A) < 0) gaps.edge_axis_W = -gaps.edge_axis_W;
+  return gaps;
+}
+
+double brute_force_gap(const ConvexPiece& A, const Pose& X_WA, const ConvexPiece& B, const Pose& X_WB) {
+  const Gaps gaps = brute_force_gaps(A, X_WA, B, X_WB);
+  return std::max(gaps.faces, gaps.edges);
 }
 
 // How much deeper than their separation a face contact may put two overlapping pieces:
@@ -130,6 +163,50 @@ TEST(ConvexManifold, BunnyPiecesFindTheUnprunedSeparation) {
   }
   EXPECT_GT(overlapping, trials / 4);
   EXPECT_GT(exact, 0.95 * overlapping);
+}
+
+// The bunny's pieces apart by less than the tolerance with two edges closest (the best
+// edge pair's axis, unpruned, beats every face normal and reaches their GJK distance): the
+// manifold is the one point of those edges, at that distance along that axis, whichever
+// way it found the pair (through the support vertices, or searching every pair).
+TEST(ConvexManifold, BunnyPiecesApartAcrossTwoEdgesGetThatPoint) {
+  const auto set = load_convex_set(kBunnyPiecesFile, Eigen::Vector3d::Constant(0.8));
+  std::mt19937 rng(12);
+  std::uniform_int_distribution<int> pick(0, static_cast<int>(set->pieces.size()) - 1);
+  int edge_pairs = 0, exact = 0;
+#ifdef ARPHYS_UNDER_SANITIZERS
+  const int trials = 400;
+#else
+  const int trials = 1500;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
+    const ConvexPiece& a = set->pieces[pick(rng)];
+    const ConvexPiece& b = set->pieces[pick(rng)];
+    const Pose X_WA = random_pose(rng, 0.0) * at(-a.centroid_m());
+    Pose X_WB = at(Eigen::Vector3d(0.2, 0, 0)) * random_pose(rng, 0.05) * at(-b.centroid_m());
+    // Moved towards A along their closest points' axis to a gap within the tolerance.
+    const ConvexDistance far = convex_distance(a, X_WA, b, X_WB);
+    const double gap = std::uniform_real_distribution<double>(1e-6, 9e-4)(rng);
+    X_WB = at(-(far.upper_m - gap) * far.axis_W) * X_WB;
+    const ConvexDistance distance = convex_distance(a, X_WA, b, X_WB);
+    if (!(distance.upper_m > 0 && distance.upper_m < 1e-3)) continue;
+    const Gaps gaps = brute_force_gaps(a, X_WA, b, X_WB);
+    if (!(gaps.edges > gaps.faces + 1e-7 && gaps.edges > distance.upper_m - 1e-9)) continue;
+    // (An edge axis within half a degree of the best face's normal is taken for that face.)
+    if (std::abs(gaps.edge_axis_W.dot(gaps.face_normal_W)) >= 0.99996 || !gaps.edges_closest_inside) continue;
+    ++edge_pairs;
+    std::vector<ManifoldPoint> points;
+    convex_manifold(a, 0, X_WA, b, 1, X_WB, 1e-3, &points);
+    if (points.empty()) continue;
+    EXPECT_GE(deepest(points), distance.upper_m - 1e-9) << "trial " << trial;  // never closer than they are
+    exact += points.size() == 1 && std::abs(points[0].distance_m - distance.upper_m) <= 1e-9 &&
+             points[0].normal_W.dot(gaps.edge_axis_W) > 1 - 1e-9;
+  }
+  EXPECT_GT(edge_pairs, trials / 40);
+  // (The rest are answered by a face, a little further than the edges: where two edges of a
+  // piece are nearly parallel, the pair found may be the one whose closest points lie at
+  // an end.)
+  EXPECT_GE(exact, 0.75 * edge_pairs);
 }
 
 TEST(ConvexManifold, PlaneTouchesTheVerticesBelowItsTolerance) {
