@@ -44,6 +44,11 @@ struct ContinuousOptions {
   // tests that for its contacts at the same poses): the query's own start test, as
   // costly as a discrete intersection test, is skipped. Must be exact, not a guess.
   bool apart_at_start = false;
+  // Convex sets: piece pairs closer than this at the start whose points move less than a
+  // quarter of the thinner piece's thickness relative to each other are not swept: they
+  // cannot pass through each other, and ContinuousResult::touching_unswept tells the
+  // caller to check the end of their motion instead (0: every piece pair is swept).
+  double touching_unswept_m = 0;
 };
 
 struct ContinuousStats {
@@ -60,6 +65,11 @@ struct ContinuousResult {
   ContactFeatures features;
   Eigen::Vector3d point_W = Eigen::Vector3d::Zero();   // contact point at the TOI, world, metres
   Eigen::Vector3d normal_W = Eigen::Vector3d::Zero();  // unit, pointing from A towards B
+  // Without contact: a proven lower bound on the two bodies' distance all along the
+  // motions (convex sets only; 0 where not proven).
+  double clearance_m = 0;
+  // Some piece pairs were left to the caller's end check (ContinuousOptions::touching_unswept_m).
+  bool touching_unswept = false;
   ContinuousStats stats;
 };
 

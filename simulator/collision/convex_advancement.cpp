@@ -86,9 +86,12 @@ struct AxisReach {
 // can rise and B's sink. A pair resting on each other and sliding, whose contact points the
 // solve holds (n.v about 0), is proven apart here where the closing-speed bounds of advance()
 // stall on the turn of its farthest points.
-bool apart_along(const AxisReach& a, const AxisReach& b, double s) {
+// (margin_m: how far apart they stay, when they do.)
+bool apart_along(const AxisReach& a, const AxisReach& b, double s, double* margin_m) {
   const double top_A = a.highest(1, s), bottom_B = -b.highest(-1, s);
-  return bottom_B - top_A > kApart_m + 1e-12 * (std::abs(top_A) + std::abs(bottom_B));
+  const double rounding = 1e-12 * (std::abs(top_A) + std::abs(bottom_B));
+  *margin_m = bottom_B - top_A - rounding;
+  return *margin_m > kApart_m;
 }
 
 // Advances one piece pair from t = 0 while the gap is at least what kSmallestStep of the
@@ -96,11 +99,14 @@ bool apart_along(const AxisReach& a, const AxisReach& b, double s) {
 // and whether it is proven apart (not just not touching) there. Each step is bounded along
 // the axis GJK proved the gap on: the supports' separation along a fixed axis is a lower
 // bound on the distance, and it shrinks no faster than the points close along that axis.
-// (start_A, start_B: the pieces' motions at t = 0, already known to the caller.)
+// (start_A, start_B: the pieces' motions at t = 0, already known to the caller.) Where the
+// first bound proves the whole motion apart, *clearance_m is how far apart it holds the
+// pieces throughout; else 0.
 double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMotion& start_A, const ConvexPiece& b,
-               const ScrewMotion& motion_B, const PieceMotion& start_B, bool* apart_there) {
+               const ScrewMotion& motion_B, const PieceMotion& start_B, bool* apart_there, double* clearance_m) {
   double t = 0;
   *apart_there = false;
+  *clearance_m = 0;
   int vertex_steps = 0;
   for (int step = 0; step < kMaxSteps; ++step) {
     const PieceMotion at_A = t == 0 ? start_A : piece_motion_at(a, motion_A, t);
@@ -110,7 +116,10 @@ double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMot
     *apart_there = d.lower_m > kApart_m;
     if (!*apart_there) return t;
     const double along = std::min(speed, closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t, &d.axis_W));
-    if (along <= 0 || d.lower_m > along * (1 - t)) return 1.0;
+    if (along <= 0 || d.lower_m > along * (1 - t)) {
+      if (t == 0) *clearance_m = d.lower_m - std::max(along, 0.0);
+      return 1.0;
+    }
     if (d.lower_m > kSmallestStep * speed) {
       t += d.lower_m / along;
       continue;
@@ -121,12 +130,15 @@ double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMot
     // takes the pair from here.
     if (++vertex_steps > kMaxVertexSteps) return t;
     const AxisReach reach_A(a, motion_A, t, d.axis_W), reach_B(b, motion_B, t, d.axis_W);
-    double s = 1 - t;
-    for (int halving = 0; !apart_along(reach_A, reach_B, s); ++halving) {
+    double s = 1 - t, margin_m = 0;
+    for (int halving = 0; !apart_along(reach_A, reach_B, s, &margin_m); ++halving) {
       if (halving == kMaxHalvings) return t;
       s *= 0.5;
     }
-    if (s == 1 - t) return 1.0;
+    if (s == 1 - t) {
+      if (t == 0) *clearance_m = margin_m;
+      return 1.0;
+    }
     t += s;
     --step;  // (its own budget)
   }
@@ -157,6 +169,8 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
   };
   const auto starts_A = starts(A, motion_A), starts_B = starts(B, motion_B);
   std::vector<Stall> stalls;
+  double clearance_m = std::numeric_limits<double>::infinity();
+  bool touching_unswept = false;
   for (int a = 0; a < static_cast<int>(A.pieces.size()); ++a)
     for (int b = 0; b < static_cast<int>(B.pieces.size()); ++b) {
       const ConvexPiece& piece_a = A.pieces[a];
@@ -165,9 +179,21 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
       const auto& [start_b, centre_b] = starts_B[b];
       const double speed = closing_speed_bound(piece_a, motion_A, start_a, piece_b, motion_B, start_b, 0);
       const double ball_gap = (centre_b - centre_a).norm() - piece_a.radius_m() - piece_b.radius_m();
-      if (ball_gap > speed + kApart_m) continue;  // their balls cannot meet
+      if (ball_gap > speed + kApart_m) {  // their balls cannot meet
+        clearance_m = std::min(clearance_m, ball_gap - speed);
+        continue;
+      }
+      if (options.touching_unswept_m > 0 &&
+          speed <= 0.5 * std::min(piece_a.half_thickness_m(), piece_b.half_thickness_m()) &&
+          !(convex_distance(piece_a, motion_A.start(), piece_b, motion_B.start(), options.touching_unswept_m).lower_m >
+            options.touching_unswept_m)) {
+        touching_unswept = true;
+        continue;
+      }
       bool apart = false;
-      const double t = advance(piece_a, motion_A, start_a, piece_b, motion_B, start_b, &apart);
+      double pair_clearance_m = 0;
+      const double t = advance(piece_a, motion_A, start_a, piece_b, motion_B, start_b, &apart, &pair_clearance_m);
+      clearance_m = std::min(clearance_m, pair_clearance_m);
       if (t < 1) stalls.push_back({t, a, b, apart});
     }
   std::sort(stalls.begin(), stalls.end(), [](const Stall& x, const Stall& y) {
@@ -187,6 +213,9 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
     r.time_of_impact = stall.t + (1 - stall.t) * r.time_of_impact;
     if (!first.collides || r.time_of_impact < first.time_of_impact) first = r;
   }
+  // (A stall's sweep proves no clearance.)
+  if (!first.collides && stalls.empty() && !touching_unswept) first.clearance_m = std::max(clearance_m, 0.0);
+  first.touching_unswept = touching_unswept;
   return first;
 }
 

@@ -398,6 +398,9 @@ class World {
   void finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                     const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B,
                     StepReport& report) const;
+  // How far any point of the body can be, over the step, from where it was on the motion to
+  // swept_to when it moves on `now` instead (both from its pose at the step's start).
+  double motion_change_m(int body, const geometry::Pose& swept_to, const geometry::ScrewMotion& now) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
   // Two meshes whose surfaces cross at their current poses (`manifold`: theirs, within

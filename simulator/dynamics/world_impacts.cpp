@@ -116,6 +116,13 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     CachedImpact& query = cache ? cached(i, j) : uncached.emplace_back();
     PairSweep sweep{p, q, &query};
     sweep.fresh = !query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix();
+    // A pair proven apart by a clearance that the change of both motions cannot close
+    // keeps its answer: a meeting's re-solve moves every body of a pile's island a little,
+    // and sweeping them all again was most of a round.
+    if (sweep.fresh && query.valid && query.result.clearance_m > 0 &&
+        motion_change_m(i, query.next_A, motion_of(p)) + motion_change_m(j, query.next_B, motion_of(q)) <
+            query.result.clearance_m - kGapRounding_m)
+      sweep.fresh = false;
     if (sweep.fresh) {
       classify_sweep(sweep, participants, relative_motion_m, curve[p] + curve[q], resting_pairs);
       motion_of(p);
@@ -186,20 +193,32 @@ void World::answer_sweep(PairSweep& sweep, const std::vector<int>& participants,
   CachedImpact& query = *sweep.query;
   collision::ContinuousOptions ccd = options_.ccd;
   ccd.apart_at_start = sweep.apart_at_start;
+  // Pieces that touch at the start and move too little to pass through each other are
+  // checked at the end, as a resting pair is; their bounce, if any, is solved at the next
+  // step's start (below sequential_bounce_restitution, as for a bounce a solve brings
+  // about). The sweep stalls on such pairs: in a tumbling pile they were most of its cost.
+  if (depth_measured(a, b) && std::max(a.restitution, b.restitution) <= options_.sequential_bounce_restitution)
+    ccd.touching_unswept_m = options_.contact_tolerance_m;
   const double start_depth_m = query.start_depth_m;  // (-1 for a pair not asked before)
   query = {true, next_A, next_B,
            sweep.swept_by_ccd ? collision::time_of_impact(a.shape, motion_A, b.shape, motion_B, ccd)
                               : collision::ContinuousResult{},
            {}};
+  // A meeting elsewhere cuts or constrains the motion: then every piece pair is timed.
+  if (meets_inside(query.result) && query.result.touching_unswept) {
+    ccd.touching_unswept_m = 0;
+    query.result = collision::time_of_impact(a.shape, motion_A, b.shape, motion_B, ccd);
+  }
   const collision::ContinuousResult& r = query.result;
-  query.swept = !sweep.resting_slowly && !touching_at_start(r);
+  const bool end_checked = sweep.resting_slowly || touching_at_start(r) || r.touching_unswept;
+  query.swept = !end_checked;
   if (meets_inside(r) && r.features.kind != collision::FeaturePair::kNone) {
     // The meeting point as material points of both bodies, and A's normal there.
     const geometry::Pose X_A = motion_A.pose_at(r.time_of_impact);
     const geometry::Pose X_B = motion_B.pose_at(r.time_of_impact);
     query.hits = {{X_A.inverse() * r.point_W, X_B.inverse() * r.point_W, X_A.linear().transpose() * r.normal_W}};
   }
-  if (!sweep.resting_slowly && !touching_at_start(r)) return;
+  if (!end_checked) return;
   // Touching or overlapping already: the CCD cannot time a meeting of surfaces that meet
   // at the start, and the contacts, linearised, let a turning body dig in (1e-5 m in a
   // pile of 1000 boxes). So the end of the motion is checked: points deeper than
@@ -241,6 +260,11 @@ void World::finish_sweep(PairSweep& sweep, const std::vector<int>& participants,
     if (query.free_until == 1) apart_at_end_[{i, j}] = {next[sweep.p], next[sweep.q]};
   }
   query.deepens = !query.hits.empty() || query.free_until < 1;
+}
+
+double World::motion_change_m(int body, const geometry::Pose& swept_to, const geometry::ScrewMotion& now) const {
+  if (swept_to.matrix() == now.end().matrix()) return 0;
+  return geometry::motion_change_bound_m(geometry::ScrewMotion(bodies_[body].X_WB, swept_to), now, radius_m_[body]);
 }
 
 double World::deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const {

@@ -58,4 +58,11 @@ Eigen::Vector3d ScrewMotion::velocity_of_point(const Eigen::Vector3d& p_W) const
   return w.cross(p_W) - w_cross_c + axial_m_ * axis_;
 }
 
+double motion_change_bound_m(const ScrewMotion& before, const ScrewMotion& now, double radius_m) {
+  const Eigen::Vector3d o_W = before.start().translation();
+  const Eigen::Vector3d v_before = before.velocity_of_point(o_W);
+  const double dw = (now.angular_velocity() - before.angular_velocity()).norm();
+  return (now.velocity_of_point(o_W) - v_before).norm() + dw * (radius_m + v_before.norm());
+}
+
 }  // namespace arphys::geometry

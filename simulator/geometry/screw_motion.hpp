@@ -53,4 +53,12 @@ class ScrewMotion {
   Eigen::Vector3d normal_translation_m_{0, 0, 0};
 };
 
+// How far apart, at most, a body point's places on two screw motions from the same start
+// pose get over t in [0, 1], for any point within radius_m of the body's origin at the
+// start. The two paths part no faster than the velocity field of the motions' difference
+// (the first motion's field only turns the gap between them); bounded at the origin and
+// along its path on `before` (as long as its constant speed there), that is
+//   |v_now(o) - v_before(o)| + |w_now - w_before| (radius_m + |v_before(o)|).
+double motion_change_bound_m(const ScrewMotion& before, const ScrewMotion& now, double radius_m);
+
 }  // namespace arphys::geometry
