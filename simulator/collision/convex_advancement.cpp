@@ -99,26 +99,35 @@ bool apart_along(const AxisReach& a, const AxisReach& b, double s, double* margi
 // and whether it is proven apart (not just not touching) there. Each step is bounded along
 // the axis GJK proved the gap on: the supports' separation along a fixed axis is a lower
 // bound on the distance, and it shrinks no faster than the points close along that axis.
-// (start_A, start_B: the pieces' motions at t = 0, already known to the caller.) Where the
-// first bound proves the whole motion apart, *clearance_m is how far apart it holds the
-// pieces throughout; else 0.
-double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMotion& start_A, const ConvexPiece& b,
-               const ScrewMotion& motion_B, const PieceMotion& start_B, bool* apart_there, double* clearance_m) {
-  double t = 0;
-  *apart_there = false;
-  *clearance_m = 0;
+// (start_A, start_B: the pieces' motions at t = 0, already known to the caller.)
+struct Advance {
+  double t = 0;            // proven free until here (1: the whole motion)
+  bool apart = false;      // proven apart (not just not touching) at t
+  double clearance_m = 0;  // where the first bound proves the whole motion apart: how far apart it holds them
+  bool touching = false;   // within touching_m at the start (touching_m > 0): not advanced
+};
+Advance advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMotion& start_A, const ConvexPiece& b,
+                const ScrewMotion& motion_B, const PieceMotion& start_B, double touching_m) {
+  Advance out;
+  double& t = out.t;
   int vertex_steps = 0;
   for (int step = 0; step < kMaxSteps; ++step) {
     const PieceMotion at_A = t == 0 ? start_A : piece_motion_at(a, motion_A, t);
     const PieceMotion at_B = t == 0 ? start_B : piece_motion_at(b, motion_B, t);
     const double speed = closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t);
-    const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), speed * (1 - t));
-    *apart_there = d.lower_m > kApart_m;
-    if (!*apart_there) return t;
+    const double enough = t == 0 ? std::max(speed, touching_m) : speed * (1 - t);
+    const ConvexDistance d = convex_distance(a, motion_A.pose_at(t), b, motion_B.pose_at(t), enough);
+    if (t == 0 && touching_m > 0 && !(d.lower_m > touching_m)) {
+      out.touching = true;
+      return out;
+    }
+    out.apart = d.lower_m > kApart_m;
+    if (!out.apart) return out;
     const double along = std::min(speed, closing_speed_bound(a, motion_A, at_A, b, motion_B, at_B, t, &d.axis_W));
     if (along <= 0 || d.lower_m > along * (1 - t)) {
-      if (t == 0) *clearance_m = d.lower_m - std::max(along, 0.0);
-      return 1.0;
+      if (t == 0) out.clearance_m = d.lower_m - std::max(along, 0.0);
+      t = 1;
+      return out;
     }
     if (d.lower_m > kSmallestStep * speed) {
       t += d.lower_m / along;
@@ -128,21 +137,22 @@ double advance(const ConvexPiece& a, const ScrewMotion& motion_A, const PieceMot
     // rest of the motion, or over a half, a quarter ... of it, advances a pair that rests
     // and slides (its turn closes the gap at second order only). Failing that, the sweep
     // takes the pair from here.
-    if (++vertex_steps > kMaxVertexSteps) return t;
+    if (++vertex_steps > kMaxVertexSteps) return out;
     const AxisReach reach_A(a, motion_A, t, d.axis_W), reach_B(b, motion_B, t, d.axis_W);
     double s = 1 - t, margin_m = 0;
     for (int halving = 0; !apart_along(reach_A, reach_B, s, &margin_m); ++halving) {
-      if (halving == kMaxHalvings) return t;
+      if (halving == kMaxHalvings) return out;
       s *= 0.5;
     }
     if (s == 1 - t) {
-      if (t == 0) *clearance_m = margin_m;
-      return 1.0;
+      if (t == 0) out.clearance_m = margin_m;
+      t = 1;
+      return out;
     }
     t += s;
     --step;  // (its own budget)
   }
-  return t;
+  return out;
 }
 
 }  // namespace
@@ -183,18 +193,14 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
         clearance_m = std::min(clearance_m, ball_gap - speed);
         continue;
       }
-      if (options.touching_unswept_m > 0 &&
-          speed <= 0.5 * std::min(piece_a.half_thickness_m(), piece_b.half_thickness_m()) &&
-          !(convex_distance(piece_a, motion_A.start(), piece_b, motion_B.start(), options.touching_unswept_m).lower_m >
-            options.touching_unswept_m)) {
-        touching_unswept = true;
-        continue;
-      }
-      bool apart = false;
-      double pair_clearance_m = 0;
-      const double t = advance(piece_a, motion_A, start_a, piece_b, motion_B, start_b, &apart, &pair_clearance_m);
-      clearance_m = std::min(clearance_m, pair_clearance_m);
-      if (t < 1) stalls.push_back({t, a, b, apart});
+      // Touching pieces that cannot pass through each other: left to the caller.
+      const bool may_leave = speed <= 0.5 * std::min(piece_a.half_thickness_m(), piece_b.half_thickness_m());
+      const Advance pair =
+          advance(piece_a, motion_A, start_a, piece_b, motion_B, start_b, may_leave ? options.touching_unswept_m : 0.0);
+      touching_unswept |= pair.touching;
+      if (pair.touching) continue;
+      clearance_m = std::min(clearance_m, pair.clearance_m);
+      if (pair.t < 1) stalls.push_back({pair.t, a, b, pair.apart});
     }
   std::sort(stalls.begin(), stalls.end(), [](const Stall& x, const Stall& y) {
     return x.t != y.t ? x.t < y.t : (x.a != y.a ? x.a < y.a : x.b < y.b);
