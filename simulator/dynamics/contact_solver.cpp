@@ -405,7 +405,7 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
     int a = 0, b = 0;
     Vector6d Ja = Vector6d::Zero(), Jb = Vector6d::Zero(), Wa = Vector6d::Zero(), Wb = Vector6d::Zero();
     double coupling = 0;
-    double offset_m_s = 0;  // normals: known minus demanded normal velocity
+    double offset_m_s = 0;  // normals: known minus demanded normal velocity; tangents: known slip
     double friction = 0;    // normals: the row's Coulomb coefficient
     // normals of frictional rows: the largest eigenvalue of the two tangents' coupling block
     double tangent_coupling = 0;
@@ -439,8 +439,10 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
     if (row.friction > 0) {
       Eigen::Vector3d t1, t2;
       tangents(row.normal_W, t1, t2);
-      const SweepDirection& T1 = tangent_directions[2 * k] = direction(row, t1);
-      const SweepDirection& T2 = tangent_directions[2 * k + 1] = direction(row, t2);
+      SweepDirection& T1 = tangent_directions[2 * k] = direction(row, t1);
+      SweepDirection& T2 = tangent_directions[2 * k + 1] = direction(row, t2);
+      T1.offset_m_s = t1.dot(row.known_tangent_velocity_W_m_s);
+      T2.offset_m_s = t2.dot(row.known_tangent_velocity_W_m_s);
       const double cross = T1.Ja.dot(T2.Wa) + T1.Jb.dot(T2.Wb);
       normals[k].tangent_coupling = 0.5 * (T1.coupling + T2.coupling) +
                                     std::hypot(0.5 * (T1.coupling - T2.coupling), cross);
@@ -467,7 +469,6 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
         change_m_s =
             std::max(change_m_s, update(N, lambda[k], lambda[k] - (velocity(N) + N.offset_m_s) / N.coupling, 0.0, inf));
       if (N.friction > 0) {
-        // Tangential velocity of the non-dynamic bodies is not tracked: it acts as zero slip target.
         // Both tangents take one step against the slip, scaled by the largest coupling
         // of the pair (the tangent block's largest eigenvalue), then the pair goes back into
         // Coulomb's disc: at the fixed point, friction is inside the disc with no slip, or
@@ -479,7 +480,8 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
         if (!(N.tangent_coupling > 0)) continue;
         const SweepDirection& T1 = tangent_directions[2 * k];
         const SweepDirection& T2 = tangent_directions[2 * k + 1];
-        double g1 = f1[k] - velocity(T1) / N.tangent_coupling, g2 = f2[k] - velocity(T2) / N.tangent_coupling;
+        double g1 = f1[k] - (velocity(T1) + T1.offset_m_s) / N.tangent_coupling,
+               g2 = f2[k] - (velocity(T2) + T2.offset_m_s) / N.tangent_coupling;
         clamp_to_friction_disc(g1, g2, N.friction * lambda[k]);
         change_m_s = std::max({change_m_s, update(T1, f1[k], g1, -inf, inf), update(T2, f2[k], g2, -inf, inf)});
       }
@@ -497,7 +499,8 @@ bool same_row(const ContactRow& a, const ContactRow& b) {
   return a.body_a == b.body_a && a.body_b == b.body_b && a.point_W == b.point_W && a.normal_W == b.normal_W &&
          a.min_normal_velocity_m_s == b.min_normal_velocity_m_s &&
          a.known_normal_velocity_m_s == b.known_normal_velocity_m_s && a.friction == b.friction &&
-         a.pushed_before == b.pushed_before && a.warm_impulse_W_N_s == b.warm_impulse_W_N_s;
+         a.pushed_before == b.pushed_before && a.warm_impulse_W_N_s == b.warm_impulse_W_N_s &&
+         a.known_tangent_velocity_W_m_s == b.known_tangent_velocity_W_m_s;
 }
 
 // The same rows (bodies as keys) and the same starting velocities: the same answer.

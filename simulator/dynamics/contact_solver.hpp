@@ -33,6 +33,10 @@ struct ContactRow {
   // bodies contribute known_normal_velocity to that relative velocity.
   double min_normal_velocity_m_s = 0;
   double known_normal_velocity_m_s = 0;
+  // The non-dynamic bodies' part of the tangential relative velocity v_b(p) - v_a(p) (world
+  // frame, normal to normal_W): the slip friction acts against when the dynamic bodies'
+  // own velocities are zero (a bunny on a tracked tray is carried along).
+  Eigen::Vector3d known_tangent_velocity_W_m_s = Eigen::Vector3d::Zero();
   double friction = 0;  // Coulomb coefficient; 0: frictionless
   // A hint, not a constraint: the same contact pushed in the caller's previous solve.
   // The exact solver starts its active set from such rows (a pile's contacts between

@@ -280,8 +280,12 @@ ContactRow World::row_of(const Contact& c, const SolveSetup& setup, const std::v
   row.body_b = unknown(c.body_b);
   row.normal_W = c.feature.normal_W;
   row.point_W = row_point(c.feature);
-  if (!a.is_dynamic()) row.known_normal_velocity_m_s -= row.normal_W.dot(a.velocity_of_point(row.point_W));
-  if (!b.is_dynamic()) row.known_normal_velocity_m_s += row.normal_W.dot(b.velocity_of_point(row.point_W));
+  // The non-dynamic bodies' point velocities (a dynamic body's are unknowns of the solve).
+  const Eigen::Vector3d v_a = a.is_dynamic() ? Eigen::Vector3d::Zero() : a.velocity_of_point(row.point_W);
+  const Eigen::Vector3d v_b = b.is_dynamic() ? Eigen::Vector3d::Zero() : b.velocity_of_point(row.point_W);
+  row.known_normal_velocity_m_s = -row.normal_W.dot(v_a) + row.normal_W.dot(v_b);
+  const Eigen::Vector3d known_W = v_b - v_a;
+  row.known_tangent_velocity_W_m_s = known_W - row.normal_W.dot(known_W) * row.normal_W;
   const double gap = c.feature.distance_m;
   // Close at most to the resting gap within h; undo an overlap, but not violently.
   row.min_normal_velocity_m_s = std::min(-(gap - options_.contact_gap_m) / h, options_.max_depenetration_speed_m_s);

@@ -258,6 +258,33 @@ TEST(WorldScenes, TrackedBoxPushesSmoothly) {
   }
 }
 
+// A box resting on a tracked tray that slides along x at 0.2 m/s is carried: friction acts
+// against the slip between them, the tray's motion included (as a still tray's, the box
+// would stay where it was and the tray slide out from under it).
+TEST(WorldScenes, FrictionCarriesABoxOnAMovingTrackedTray) {
+  for (double dt : {1e-3, 1e-2}) {
+    World world;
+    RigidBody tray;
+    tray.id = "tray";
+    tray.motion = BodyMotion::kKinematic;
+    tray.shape = collision::Shape::box({2.0, 2.0, 0.04});
+    tray.friction = 0.5;
+    tray.X_WB = at({0, 0, 0.5});
+    tray.trajectory.add(0.0, at({0, 0, 0.5}));
+    tray.trajectory.add(2.0, at({0.4, 0, 0.5}));
+    world.add_body(tray);
+    RigidBody load = box("load", at({0, 0, 0.5 + 0.02 + 0.1 + 1e-6}));
+    load.friction = 0.5;
+    const int b = world.add_body(load);
+    for (int s = 0; s < static_cast<int>(std::round(1.0 / dt)); ++s) world.step(dt);
+    const RigidBody& carried = world.bodies()[b];
+    EXPECT_NEAR(carried.v_WBcm_m_s.x(), 0.2, 2e-3) << "dt " << dt;
+    // It slips only while friction (mu g = 4.9 m/s^2) brings it up to speed: 4 mm at most.
+    EXPECT_NEAR(carried.X_WB.translation().x(), 0.2, 5e-3) << "dt " << dt;
+    EXPECT_NEAR(carried.X_WB.translation().z(), 0.62, 1e-4) << "dt " << dt;
+  }
+}
+
 // Scene 5: a sphere with restitution 1 dropped 1 m keeps its apex after 10 bounces.
 TEST(WorldScenes, ElasticBallKeepsItsApexOverTenBounces) {
   for (double dt : {1e-3, 1e-2}) {
