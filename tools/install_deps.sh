@@ -20,7 +20,8 @@ build=(
 tests=(googletest libgtest-dev libgmock-dev iproute2 clang libclang-rt-14-dev  # clang: sanitizers + libFuzzer
        clang-format                                                             # tools/check_format.py
        libccd-dev                                                               # the convex CCD's GJK oracle
-       chromium)                                                                # the view page's screenshot test
+       chromium                                                                 # the view page's screenshot test
+       visp-images-data)                                                        # a real photo of twelve tags, with ViSP's poses
 benchmarks=(libbenchmark-dev libfcl-dev libbullet-dev libmujoco-dev libode-dev gnuplot-nox python3
             libvisp-detection-dev)                                                     # the tracker benchmark's peer (ViSP 3.5)
 packages=("${build[@]}" "${tests[@]}" "${benchmarks[@]}")
