@@ -118,7 +118,7 @@ double World::earliest_impact(const std::vector<int>& participants, const std::v
     sweep.fresh = !query.valid || query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix();
     // A pair proven apart by a clearance that the change of both motions cannot close
     // keeps its answer: a meeting's re-solve moves every body of a pile's island a little,
-    // and sweeping them all again was most of a round.
+    // and pairs further apart than that need no new sweep.
     if (sweep.fresh && query.valid && query.result.clearance_m > 0 &&
         motion_change_m(i, query.next_A, motion_of(p)) + motion_change_m(j, query.next_B, motion_of(q)) <
             query.result.clearance_m - kGapRounding_m)
