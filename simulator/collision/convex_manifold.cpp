@@ -168,21 +168,15 @@ bool edge_contact(const Placed& a, const Placed& b, const EdgeAxis& edge, const 
   return true;
 }
 
-// Apart, the pieces' largest separation is their distance, along GJK's axis u. Where no face
+// Apart, the pieces' largest separation is their distance, along GJK's axis. Where no face
 // comes within rounding of it, the closest features are two edges, each through its piece's
-// support vertex along u: of the edge pairs through those two vertices, the one whose axis
+// support vertex along that axis: of the edge pairs through those two vertices, the one whose axis
 // carries the distance (of all edge pairs, another could be better only by rounding).
 // edge_A < 0: none does.
 EdgeAxis edge_pair_at_distance(const Placed& a, const Placed& b, const ConvexDistance& distance,
-                               const geometry::Pose& X_WA) {
-  const Vector3d u = X_WA.linear().transpose() * distance.axis_W;  // A's frame, from A towards B
-  const auto support = [](const Placed& piece, const Vector3d& direction) {
-    int best = 0;
-    for (int k = 1; k < static_cast<int>(piece.v.size()); ++k)
-      if (piece.v[k].dot(direction) > piece.v[best].dot(direction)) best = k;
-    return best;
-  };
-  const int vertex_A = support(a, u), vertex_B = support(b, -u);
+                               const geometry::Pose& X_WA, const geometry::Pose& X_WB) {
+  const int vertex_A = a.piece.support(X_WA.linear().transpose() * distance.axis_W);
+  const int vertex_B = b.piece.support(-(X_WB.linear().transpose() * distance.axis_W));
   const auto through = [](const ConvexPiece::Edge& e, int vertex) { return e.v0 == vertex || e.v1 == vertex; };
   EdgeAxis best;
   for (int j = 0; j < static_cast<int>(b.piece.edges().size()); ++j) {
@@ -261,7 +255,7 @@ void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_
   if (!face_is_the_distance) {
     // Apart, the closest edges are found through the support vertices (the search over every
     // edge pair was most of this function's time in a tumbling pile); overlapping, searched.
-    if (distance.lower_m > 0) edge = edge_pair_at_distance(a, b, distance, X_WA);
+    if (distance.lower_m > 0) edge = edge_pair_at_distance(a, b, distance, X_WA, X_WB);
     if (edge.edge_A < 0) edge = best_edge_pair(a, b, tolerance_m);
   }
   if (edge.gap > tolerance_m) return;
@@ -279,8 +273,8 @@ void convex_manifold(const ConvexPiece& A, int index_A, const geometry::Pose& X_
 std::vector<ManifoldPoint> convex_set_manifold(const ConvexSet& A, const geometry::Pose& X_WA, const ConvexSet& B,
                                                const geometry::Pose& X_WB, double tolerance_m) {
   std::vector<ManifoldPoint> points;
-  // The pieces' balls, then their boxes, before GJK: most
-  // piece pairs of two bodies in contact are further apart than the tolerance.
+  // The pieces' balls, then their boxes, before GJK: most piece pairs of two bodies in
+  // contact are further apart than the tolerance.
   const geometry::Pose X_AB = X_WA.inverse() * X_WB;
   for (int i = 0; i < static_cast<int>(A.pieces.size()); ++i) {
     const ConvexPiece& pa = A.pieces[i];

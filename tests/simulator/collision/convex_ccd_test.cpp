@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <random>
 
 #include "simulator/collision/collision_mesh.hpp"
@@ -23,6 +24,12 @@ using geometry::Pose;
 using geometry::ScrewMotion;
 using testing::at;
 using testing::random_pose;
+
+// The shipped bunny's convex pieces at the bunny scenes' scale.
+std::shared_ptr<const ConvexSet> bunny_pieces() {
+  return load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
+                         Eigen::Vector3d::Constant(0.8));
+}
 
 struct PlacedPiece {
   const ConvexPiece* piece;
@@ -144,8 +151,7 @@ void judge(const ConvexSet& set, const Shape& bunny, const ScrewMotion& motion_A
 }
 
 TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
-  const auto set = load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
-                                   Eigen::Vector3d::Constant(0.8));
+  const auto set = bunny_pieces();
   const Shape bunny = Shape::convex_set(set);
   std::mt19937 rng(2027);
   std::uniform_real_distribution<double> u(-0.1, 0.1), angle(0, M_PI / 2);
@@ -193,9 +199,7 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
 // rocked up to 0.4 rad about a random axis and moved up to 100 um down or 1 mm up. Half of
 // these meet; the same truth and the same contract.
 TEST(ConvexCcd, RestingAndSlidingPiecesMatchDenseSamplingTruth) {
-  const auto set =
-      load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
-                      Eigen::Vector3d::Constant(0.8));
+  const auto set = bunny_pieces();
   const Shape bunny = Shape::convex_set(set);
   std::mt19937 rng(2028);
   std::uniform_real_distribution<double> u(-1, 1), unit(0, 1);
@@ -241,9 +245,7 @@ TEST(ConvexCcd, RestingAndSlidingPiecesMatchDenseSamplingTruth) {
 // motions (their pieces' GJK distances at 400 times of each motion never come closer), and
 // asked for 2 mm beyond need, most free answers have one.
 TEST(ConvexCcd, ClearanceIsNeverMoreThanTheClosestApproach) {
-  const auto set =
-      load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
-                      Eigen::Vector3d::Constant(0.8));
+  const auto set = bunny_pieces();
   const Shape bunny = Shape::convex_set(set);
   std::mt19937 rng(41);
   std::uniform_real_distribution<double> u(-0.1, 0.1), turn(-0.2, 0.2);
@@ -281,9 +283,7 @@ TEST(ConvexCcd, ClearanceIsNeverMoreThanTheClosestApproach) {
 // meeting is timed and nothing is swept; sliding 3 cm, or with the option off, the pairs are
 // swept and the meeting timed as before.
 TEST(ConvexCcd, TouchingPiecesThatCannotPassThroughAreLeftToTheEndCheck) {
-  const auto set =
-      load_convex_set(std::string(ARPHYS_SOURCE_DIR) + "/configs/models/stanford-bunny-1k-quadric.pieces.obj",
-                      Eigen::Vector3d::Constant(0.8));
+  const auto set = bunny_pieces();
   const Shape bunny = Shape::convex_set(set);
   const Shape table = Shape::box({1.0, 1.0, 0.04});
   double lowest = std::numeric_limits<double>::infinity();
