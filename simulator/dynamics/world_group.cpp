@@ -145,8 +145,10 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
     }
     // Nothing meets inside the step; resting pairs only end it too deep: their end poses
     // are lifted (the velocities stay the solve's), and the next round checks the motion
-    // to the lifted poses as it checked this one.
-    if (options_.project_deep_points && deepening && projections < kMaxProjectionsPerMotion &&
+    // to the lifted poses as it checked this one. With a meeting inside, the re-solve
+    // replaces the motion anyway, and the deep points become rows of it (lifting poses a
+    // re-solve then discarded was a third of a tumbling pile's step).
+    if (options_.project_deep_points && deepening && motion.tau >= 1.0 && projections < kMaxProjectionsPerMotion &&
         project_deep_points(participants, motion.next, meeting, cache, part.resting_pairs)) {
       ++report.projections;
       ++projections;
