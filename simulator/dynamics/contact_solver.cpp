@@ -596,7 +596,7 @@ DualSolution relaxed_dual(const Eigen::MatrixXd& A, const std::vector<JacobianRo
 // three times, ending on an exact normal solve so the constraints hold exactly.
 IslandAnswer solve_island_exact(const std::vector<BodyInertia>& inertia, std::vector<BodyVelocity>& velocities,
                                 const std::vector<ContactRow>& rows, const IslandInput& in,
-                                const ContactSolverOptions& options) {
+                                const ContactSolverOptions& options, const SolvedIslands::Island* earlier) {
   const std::vector<int>& island = in.island;
   const int n = static_cast<int>(island.size());
   IslandAnswer answer;
@@ -608,6 +608,12 @@ IslandAnswer solve_island_exact(const std::vector<BodyInertia>& inertia, std::ve
   SparseDelassus sparse_form;
   std::vector<char> pushed_before(n);
   for (int k = 0; k < n; ++k) pushed_before[k] = rows[island[k]].pushed_before;
+  // Its solve without the impact's rows at these poses (`earlier`) pushed with rows nearer
+  // this answer's than the last step's. (Its friction is no better a start: the sweeps
+  // stopped millimetres per second off the converged answer from there.)
+  if (earlier)
+    for (int k = 0; k < n && static_cast<std::size_t>(k) < earlier->impulses.size(); ++k)
+      pushed_before[k] = earlier->impulses[k] > 0;
   const int rounds = in.frictional ? 3 : 1;
   if (in.frictional) {
     // The friction sweeps start from last step's friction (kept in the disc of mu times last
@@ -753,7 +759,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
           }
     SolvedIslands::Island key;
     // The same island solved earlier at these poses with fewer rows (before the CCD added an
-    // impact's): where an iterative solve starts from.
+    // impact's): where a solve starts from.
     const SolvedIslands::Island* earlier = nullptr;
     if (remember) {
       key = island_key(rows, in, *body_keys);
@@ -783,7 +789,7 @@ ContactSolveResult solve_contacts(const std::vector<BodyInertia>& inertia, std::
     const bool exact = options.kind == ContactSolverKind::kExact && n <= options.max_exact_rows;
     const int too_large = options.kind == ContactSolverKind::kExact && !exact ? 1 : 0;
     result.iterative_islands += too_large;
-    const IslandAnswer answer = exact ? solve_island_exact(inertia, velocities, rows, in, options)
+    const IslandAnswer answer = exact ? solve_island_exact(inertia, velocities, rows, in, options, earlier)
                                       : solve_island_iterative(inertia, velocities, rows, in, options, earlier);
     result.iterations += answer.iterations;
     for (int k = 0; k < n; ++k) {

@@ -316,6 +316,59 @@ TEST(SolvedIslands, AnIterativeReSolveGoesOnFromTheIslandsEarlierSolve) {
   EXPECT_EQ(resolved.normal_impulses_N_s.back(), 0.0);
 }
 
+// An exact frictional island re-solved with a row added starts from the rows that pushed
+// in its earlier solve: fewer iterations, the constraints as exact, and the motion as
+// near a solve with converged friction sweeps as a solve afresh is.
+TEST(SolvedIslands, AnExactReSolveStartsFromTheIslandsEarlierSolve) {
+  const int boxes = 10;
+  std::vector<BodyInertia> inertia;
+  std::vector<BodyVelocity> falling(boxes);
+  std::vector<ContactRow> rows;
+  std::vector<int> keys;
+  for (int k = 0; k < boxes; ++k) {
+    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
+    keys.push_back(100 + k);
+    falling[k].v_WBcm_m_s = {0.02 * ((k + 1) % 3) - 0.01, 0.01, -9.81e-3};  // sliding on each other
+    for (const double dy : {-0.1, 0.1})
+      for (const double dx : {-0.1, 0.1}) {
+        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
+        row.body_a = k - 1;
+        row.friction = 0.5;
+        rows.push_back(row);
+      }
+  }
+  SolvedIslands memo;
+  std::vector<BodyVelocity> first_u = falling;
+  solve_contacts(inertia, first_u, rows, {}, &memo, &keys);
+  ContactRow wall;  // beside the top box, which it stops from sliding into it
+  wall.body_b = boxes - 1;
+  wall.point_W = {0.1, 0, 0.2 * boxes - 0.1};
+  wall.normal_W = -Eigen::Vector3d::UnitX();
+  rows.push_back(wall);
+  std::vector<BodyVelocity> with_memo = falling, without = falling;
+  const ContactSolveResult resolved = solve_contacts(inertia, with_memo, rows, {}, &memo, &keys);
+  const ContactSolveResult afresh = solve_contacts(inertia, without, rows, {});
+  ContactSolverOptions converged;
+  converged.iterations = converged.provisional_friction_sweeps = 5000;
+  converged.sweep_tolerance_m_s = 0;
+  std::vector<BodyVelocity> reference = falling;
+  solve_contacts(inertia, reference, rows, converged);
+  double warm_off = 0, cold_off = 0;
+  for (int k = 0; k < boxes; ++k) {
+    warm_off = std::max(warm_off, (with_memo[k].v_WBcm_m_s - reference[k].v_WBcm_m_s).norm());
+    cold_off = std::max(cold_off, (without[k].v_WBcm_m_s - reference[k].v_WBcm_m_s).norm());
+  }
+  std::printf(
+      "frictional column of ten re-solved with a wall: %d iterations from the earlier solve, %d afresh; %.3g / %.3g "
+      "m/s from converged sweeps\n",
+      resolved.iterations, afresh.iterations, warm_off, cold_off);
+  EXPECT_EQ(memo.reused, 0);
+  EXPECT_LT(resolved.iterations, afresh.iterations);
+  EXPECT_LE(resolved.kkt_residual_m_s, 1e-9);
+  EXPECT_GT(resolved.normal_impulses_N_s.back(), 0.0);  // the wall pushes
+  EXPECT_LE(warm_off, 1.5 * cold_off + 1e-6);
+}
+
 // Friction sweeps stop once no row's velocity moves more than sweep_tolerance_m_s in a
 // sweep: fewer sweeps, and the answer within a few times that of sweeping to the end.
 TEST(ContactSolver, FrictionSweepsStopWhenVelocitiesSettle) {
