@@ -178,6 +178,7 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
     return out;
   };
   const auto starts_A = starts(A, motion_A), starts_B = starts(B, motion_B);
+  const geometry::Pose X_AB = motion_A.start().inverse() * motion_B.start();
   std::vector<Stall> stalls;
   double clearance_m = std::numeric_limits<double>::infinity();
   bool touching_unswept = false;
@@ -191,6 +192,12 @@ ContinuousResult convex_sets_time_of_impact(const ConvexSet& A, const ScrewMotio
       const double ball_gap = (centre_b - centre_a).norm() - piece_a.radius_m() - piece_b.radius_m();
       if (ball_gap > speed + kApart_m) {  // their balls cannot meet
         clearance_m = std::min(clearance_m, ball_gap - speed);
+        continue;
+      }
+      // Nor their boxes (most piece pairs of two bunnies in a pile that pass the balls).
+      if (const double box_gap = box_gap_lower_bound_m(piece_a.box_m(), piece_b.box_m(), X_AB);
+          box_gap > speed + kApart_m) {
+        clearance_m = std::min(clearance_m, box_gap - speed);
         continue;
       }
       // Touching pieces that cannot pass through each other: left to the caller.

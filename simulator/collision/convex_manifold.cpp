@@ -193,24 +193,6 @@ EdgeAxis edge_pair_at_distance(const Placed& a, const Placed& b, const ConvexDis
   return best.gap + margin >= distance.upper_m ? best : EdgeAxis{};
 }
 
-// Whether the boxes (a: A's frame, b: B's frame, X_AB: B in A) are further apart than
-// tolerance_m along one of their six face axes.
-bool boxes_apart(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b, const geometry::Pose& X_AB,
-                 double tolerance_m) {
-  const Eigen::Matrix3d& R = X_AB.linear();
-  const Vector3d half_a = 0.5 * a.sizes(), half_b = 0.5 * b.sizes();
-  const Vector3d d_A = X_AB * b.center() - a.center();  // centre to centre, A's frame
-  const Eigen::Matrix3d R_abs = R.cwiseAbs();
-  const Vector3d reach_b_in_A = R_abs * half_b;
-  for (int k = 0; k < 3; ++k)
-    if (std::abs(d_A[k]) - half_a[k] - reach_b_in_A[k] > tolerance_m) return true;
-  const Vector3d d_B = R.transpose() * d_A;
-  const Vector3d reach_a_in_B = R_abs.transpose() * half_a;
-  for (int k = 0; k < 3; ++k)
-    if (std::abs(d_B[k]) - half_b[k] - reach_a_in_B[k] > tolerance_m) return true;
-  return false;
-}
-
 }  // namespace
 
 std::vector<Eigen::Vector3d> clip_to_half_space(const std::vector<Eigen::Vector3d>& polygon, const Eigen::Vector3d& n,
@@ -282,7 +264,7 @@ std::vector<ManifoldPoint> convex_set_manifold(const ConvexSet& A, const geometr
       const ConvexPiece& pb = B.pieces[j];
       const Vector3d cb_A = X_AB * pb.centroid_m();
       if ((cb_A - pa.centroid_m()).norm() - pa.radius_m() - pb.radius_m() > tolerance_m) continue;
-      if (boxes_apart(pa.box_m(), pb.box_m(), X_AB, tolerance_m)) continue;
+      if (box_gap_lower_bound_m(pa.box_m(), pb.box_m(), X_AB) > tolerance_m) continue;
       convex_manifold(pa, i, X_WA, pb, j, X_WB, tolerance_m, &points);
     }
   }

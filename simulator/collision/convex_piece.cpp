@@ -152,6 +152,17 @@ ConvexPiece::ConvexPiece(geometry::TriangleMesh mesh) {
   }
 }
 
+double box_gap_lower_bound_m(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b,
+                             const Eigen::Isometry3d& X_AB) {
+  const Eigen::Matrix3d& R = X_AB.linear();
+  const Vector3d half_a = 0.5 * a.sizes(), half_b = 0.5 * b.sizes();
+  const Vector3d d_A = X_AB * b.center() - a.center();  // centre to centre, A's frame
+  const Eigen::Matrix3d R_abs = R.cwiseAbs();
+  const Vector3d gap_A = d_A.cwiseAbs() - half_a - R_abs * half_b;
+  const Vector3d gap_B = (R.transpose() * d_A).cwiseAbs() - half_b - R_abs.transpose() * half_a;
+  return std::max(gap_A.maxCoeff(), gap_B.maxCoeff());
+}
+
 int ConvexPiece::support(const Eigen::Vector3d& d) const {
   int best = 0;
   double best_dot = -std::numeric_limits<double>::infinity();

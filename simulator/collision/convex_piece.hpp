@@ -23,6 +23,7 @@ class ConvexPiece {
     double offset_m = 0;       // normal . x on the face
     std::vector<int> polygon;  // vertex indices, counter-clockwise seen from outside
   };
+
   struct Edge {
     int v0 = -1, v1 = -1;
     int face_left = -1, face_right = -1;  // the faces on either side (Gauss map arc ends)
@@ -57,6 +58,11 @@ class ConvexPiece {
   Eigen::AlignedBox3d box_m_;
   double radius_m_ = 0, half_thickness_m_ = 0, volume_m3_ = 0;
 };
+
+// A lower bound on the distance between two pieces from their boxes (a: A's frame, b: B's
+// frame, X_AB: B in A): the largest gap along the boxes' six face axes (0 or less: the
+// boxes overlap along every one). A few dozen flops, where GJK takes a few support searches.
+double box_gap_lower_bound_m(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b, const Eigen::Isometry3d& X_AB);
 
 // A body's collision model as convex pieces (body frame), with the union of their hull
 // triangles as one mesh for the queries that take meshes (the CCD, pairs with a mesh).

@@ -1,13 +1,16 @@
 // Convex pieces: the shipped bunny's pieces load and are polyhedra; what is not one is
 // refused with the file, the piece and the reason.
+#include "simulator/collision/convex_piece.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "simulator/collision/collision_mesh.hpp"
-#include "simulator/collision/convex_piece.hpp"
+#include "simulator/collision/convex_distance.hpp"
 
 namespace arphys::collision {
 namespace {
@@ -42,6 +45,35 @@ TEST(ConvexPiece, BoxHasSixFacesTwelveEdgesAndItsThickness) {
   }
   EXPECT_EQ(box.support({1, 1, 1}), box.support({1, 1, 1}));
   EXPECT_NEAR(box.vertices_m()[box.support({1, 1, 1})].sum(), 0.35, 1e-15);
+}
+
+// The boxes' gap never exceeds the pieces' distance (GJK's), and it is the distance for two
+// boxes face to face.
+TEST(ConvexPiece, BoxGapIsALowerBoundOnTheDistance) {
+  const auto set = load_convex_set(kBunnyPieces, Eigen::Vector3d::Constant(0.8));
+  std::srand(7);
+  int tight = 0, trials = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const ConvexPiece& a = set->pieces[k % 10];
+    const ConvexPiece& b = set->pieces[(k / 10) % 10];
+    const geometry::Pose X_WA = geometry::Pose::Identity();
+    geometry::Pose X_WB = geometry::Pose::Identity();
+    X_WB.linear() = Eigen::Quaterniond(Eigen::Vector4d::Random()).normalized().toRotationMatrix();
+    X_WB.translation() = 0.15 * Eigen::Vector3d::Random();
+    const double gap = box_gap_lower_bound_m(a.box_m(), b.box_m(), X_WA.inverse() * X_WB);
+    const ConvexDistance d = convex_distance(a, X_WA, b, X_WB);
+    if (d.lower_m <= 0) continue;
+    ++trials;
+    EXPECT_LE(gap, d.upper_m + 1e-12) << "trial " << k;
+    tight += gap > 0.5 * d.lower_m;
+  }
+  std::printf("box gap: %d of %d apart piece pairs within half their distance\n", tight, trials);
+  EXPECT_GT(trials, 1000);
+  EXPECT_GT(tight, trials / 10);  // (a bound that is always 0 would pass the first check)
+  const ConvexPiece box(geometry::make_box_mesh({0.2, 0.2, 0.2}));
+  geometry::Pose X_AB = geometry::Pose::Identity();
+  X_AB.translation() = Eigen::Vector3d(0.25, 0.01, 0);
+  EXPECT_NEAR(box_gap_lower_bound_m(box.box_m(), box.box_m(), X_AB), 0.05, 1e-15);
 }
 
 TEST(ConvexPiece, ShippedBunnyPiecesArePolyhedra) {
