@@ -16,10 +16,10 @@ using geometry::ScrewMotion;
 // Steps of advancement per piece pair before the rest of the motion is swept, and the
 // smallest step (a fraction of the motion) worth taking: a pair closing slowly from a
 // touch would take thousands.
-constexpr int kMaxSteps = 8;
+constexpr int kMaxSteps = 32;
 // Steps of the vertex-wise bound past a stall (apart_along), each the rest of the motion halved
 // at most kMaxHalvings times.
-constexpr int kMaxVertexSteps = 8;
+constexpr int kMaxVertexSteps = 32;
 constexpr int kMaxHalvings = 4;
 constexpr double kSmallestStep = 0.02;
 // A distance bound that proves two pieces apart whatever the rounding of its computation.
