@@ -8,7 +8,7 @@
 //      restitution;
 //   4. the bodies' screw motions to their candidate poses are checked by CCD; the point
 //      where a pair meets inside the step (fixed in both bodies, with its normal)
-//      joins the constraints and 3 is solved again, up to three rounds, so the impact
+//      joins the constraints and 3 is solved again, up to five rounds, so the impact
 //      (with its restitution) happens in this step; the point is kept out by where
 //      it ends the motion (a Newton step on its depth: a turning body's linearised
 //      constraint alone misses by micrometres); if the CCD still finds a meeting, or
