@@ -133,12 +133,18 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
   };
   int projections = 0;  // rounds that lifted end poses instead of solving
   ImpactMap impacts;    // every round's meetings: constraints of every later solve
+  // A lift whose lifted motion then meets something (a body lifted into a third) is not
+  // tried again in this part: its re-solve leaves the pair it lifted deep again, and lift
+  // and re-solve alternated until the lifts ran out. Deep points become rows instead.
+  bool lifted = false, lifts_meet = false;
   for (int round = 0;; ++round) {
     ImpactMap meeting;
     bool deepening = false;
     sweep();
     motion.tau = earliest_impact(participants, motion.next, &part.resting_pairs, &meeting, &cache, &deepening, report,
                                  &swept_pairs);
+    lifts_meet |= lifted && motion.tau < 1.0;
+    lifted = false;
     // A squeezed body overlaps whatever the solve does: reported, not chased.
     if (motion.squeezed) deepening = false;
     if (motion.tau >= 1.0 && !deepening) return;
@@ -152,8 +158,10 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
     // to the lifted poses as it checked this one. With a meeting inside, the re-solve
     // replaces the motion anyway, and the deep points become rows of it (lifting poses a
     // re-solve then discarded was a third of a tumbling pile's step).
-    if (options_.project_deep_points && deepening && motion.tau >= 1.0 && projections < kMaxProjectionsPerMotion &&
+    if (options_.project_deep_points && deepening && motion.tau >= 1.0 && !lifts_meet &&
+        projections < kMaxProjectionsPerMotion &&
         project_deep_points(participants, motion.next, meeting, cache, part.resting_pairs)) {
+      lifted = true;
       ++report.projections;
       ++projections;
       --round;  // (not a re-solve: it does not count against kMaxResolveRounds)
