@@ -23,7 +23,6 @@ class ConvexPiece {
     double offset_m = 0;       // normal . x on the face
     std::vector<int> polygon;  // vertex indices, counter-clockwise seen from outside
   };
-
   struct Edge {
     int v0 = -1, v1 = -1;
     int face_left = -1, face_right = -1;  // the faces on either side (Gauss map arc ends)

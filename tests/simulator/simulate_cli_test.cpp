@@ -52,6 +52,42 @@ std::string file_text(const std::string& path) {
   return text.str();
 }
 
+// --step-times: one row per step with its time, rounds and contacts (a ball dropped 1 m
+// onto the ground has its first contact as it lands).
+TEST(SimulateCli, StepTimesHaveARowPerStepAndTheLandingsContact) {
+  const std::string csv = ::testing::TempDir() + "bounce_states.csv";
+  const std::string times = ::testing::TempDir() + "bounce_step_times.csv";
+  int code = 0;
+  const std::string summary = run(std::string(ARPHYS_SOURCE_DIR) + "/configs/scenes/bounce.yaml --duration 0.5 --csv " +
+                                      csv + " --step-times " + times,
+                                  &code);
+  ASSERT_EQ(code, 0) << summary;
+  std::ifstream in(times);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "t_s,step_ms,resolves,lifts,cuts,contacts,deepest_overlap_m");
+  const auto rows = arphys::testing::read_csv(times);
+  ASSERT_FALSE(rows.empty());
+  using arphys::testing::number;
+  const double dt = number(rows.front(), "t_s");
+  EXPECT_EQ(static_cast<double>(rows.size()), std::round(0.5 / dt));
+  // In the air the ball has no contact; it meets the ground once, after 0.45 s.
+  double first_contact_s = -1;
+  for (const auto& row : rows) {
+    EXPECT_GT(number(row, "step_ms"), 0.0);
+    if (first_contact_s < 0 && number(row, "contacts") > 0) first_contact_s = number(row, "t_s");
+  }
+  EXPECT_NEAR(first_contact_s, std::sqrt(2 * 1.0 / 9.81), 0.01);
+  std::remove(csv.c_str());
+  std::remove(times.c_str());
+  EXPECT_NE(run(std::string(ARPHYS_SOURCE_DIR) +
+                    "/configs/scenes/bounce.yaml --duration 0.1 --csv - --step-times /nonexistent/dir/t.csv",
+                &code)
+                .find("cannot write /nonexistent/dir/t.csv"),
+            std::string::npos);
+  EXPECT_EQ(code, 2);
+}
+
 // The bunnies land and pile up within the second; the CSV must not depend on --threads.
 TEST(SimulateCli, TheCsvIsTheSameForOneTwoAndFourThreads) {
   std::string first;
