@@ -4,11 +4,13 @@
 // (SI units, world frame; p and v of the body frame's origin). Kinematic bodies follow
 // their scripted trajectories. A summary (timing, events, penetration) goes to stderr.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <string>
 
 #include "configs/loader/config_error.hpp"
 #include "configs/loader/scene_config.hpp"
@@ -31,6 +33,48 @@ void write_rows(std::ostream& out, const dynamics::World& world) {
                   w.x(), w.y(), w.z());
     out << row;
   }
+}
+
+// What a run's steps reported, summed, and the time spent in World::step alone (the CSV's
+// formatting is the tool's, not the step's).
+struct RunTotals {
+  long steps = 0, resolves = 0, lifts = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, held = 0, iterative = 0;
+  double stepping_s = 0, deepest = 0, worst_kkt = 0;
+
+  void add(const dynamics::StepReport& report, double step_s) {
+    ++steps;
+    stepping_s += step_s;
+    resolves += report.impacts_resolved - report.projections;
+    lifts += report.projections;
+    cuts += report.events;
+    capped += report.events_capped;
+    infeasible += report.infeasible;
+    launches += report.launches_prevented;
+    held += report.non_finite_held;
+    iterative += report.iterative_islands;
+    deepest = std::max(deepest, report.max_penetration_m);
+    worst_kkt = std::max(worst_kkt, report.kkt_residual_m_s);
+  }
+};
+
+// One row of --step-times: the step's time and what it had to resolve.
+void write_step_time(std::ostream& out, double t_s, const dynamics::StepReport& report, double step_s) {
+  out << t_s << ',' << 1e3 * step_s << ',' << report.impacts_resolved - report.projections << ',' << report.projections
+      << ',' << report.events << ',' << report.contacts << ',' << report.max_penetration_m << '\n';
+}
+
+void print_summary(const std::string& scene, const dynamics::World& world, double dt_s, double duration_s, int threads,
+                   const RunTotals& t, double wall_s) {
+  std::fprintf(
+      stderr,
+      "\r[simulate] %s: %ld steps of %.4g s, %zu bodies, %d thread%s; %.3f ms per step (real-time factor %.2f; "
+      "%.2f s in all with the CSV); %ld re-solves (CCD meetings and end checks), %ld lifts of resting points "
+      "left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, %ld launches "
+      "prevented, %ld bodies held after a numerical failure, %ld island solves too large for the exact "
+      "solver; deepest overlap %.3g m; worst KKT residual %.3g m/s\n",
+      scene.c_str(), t.steps, dt_s, world.bodies().size(), threads, threads == 1 ? "" : "s",
+      1e3 * t.stepping_s / std::max(1L, t.steps), duration_s / std::max(t.stepping_s, 1e-9), wall_s, t.resolves,
+      t.lifts, t.cuts, t.capped, t.infeasible, t.launches, t.held, t.iterative, t.deepest, t.worst_kkt);
 }
 
 }  // namespace
@@ -94,30 +138,15 @@ int main(int argc, char** argv) {
   write_rows(out, world);
 
   const long steps = std::lround(duration_s / dt_s);
-  long resolves = 0, lifts = 0, cuts = 0, capped = 0, infeasible = 0, launches = 0, held = 0, iterative = 0;
-  double deepest = 0, worst_kkt = 0;
+  RunTotals totals;
   const auto start = std::chrono::steady_clock::now();
   auto last_progress = start;
-  double stepping_s = 0;  // in World::step alone (the CSV's formatting is the tool's, not the step's)
   for (long k = 0; k < steps; ++k) {
     const auto step_start = std::chrono::steady_clock::now();
     const dynamics::StepReport report = world.step(dt_s);
     const double step_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - step_start).count();
-    stepping_s += step_s;
-    if (step_times.is_open())
-      step_times << world.time_s() << ',' << 1e3 * step_s << ',' << report.impacts_resolved - report.projections << ','
-                 << report.projections << ',' << report.events << ',' << report.contacts << ','
-                 << report.max_penetration_m << '\n';
-    resolves += report.impacts_resolved - report.projections;
-    lifts += report.projections;
-    cuts += report.events;
-    capped += report.events_capped;
-    infeasible += report.infeasible;
-    launches += report.launches_prevented;
-    held += report.non_finite_held;
-    iterative += report.iterative_islands;
-    deepest = std::max(deepest, report.max_penetration_m);
-    worst_kkt = std::max(worst_kkt, report.kkt_residual_m_s);
+    totals.add(report, step_s);
+    if (step_times.is_open()) write_step_time(step_times, world.time_s(), report, step_s);
     write_rows(out, world);
     const auto now = std::chrono::steady_clock::now();
     if (now - last_progress > std::chrono::seconds(2)) {
@@ -125,18 +154,7 @@ int main(int argc, char** argv) {
       last_progress = now;
     }
   }
-  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::fprintf(stderr,
-               "\r[simulate] %s: %ld steps of %.4g s, %zu bodies, %d thread%s; %.3f ms per step (real-time factor "
-               "%.2f; %.2f s in all "
-               "with the CSV); %ld re-solves "
-               "(CCD meetings and end checks), %ld lifts of resting points left too deep, %ld cuts at a time of "
-               "impact, %ld capped steps, %ld squeezed steps, "
-               "%ld launches prevented, %ld bodies held after a numerical failure, %ld island solves too large for the "
-               "exact solver; deepest overlap %.3g m; "
-               "worst KKT residual %.3g m/s\n",
-               scene.name.c_str(), steps, dt_s, world.bodies().size(), threads, threads == 1 ? "" : "s",
-               1e3 * stepping_s / std::max(1L, steps), duration_s / std::max(stepping_s, 1e-9), wall_s, resolves, lifts,
-               cuts, capped, infeasible, launches, held, iterative, deepest, worst_kkt);
+  print_summary(scene.name, world, dt_s, duration_s, threads, totals,
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;
 }

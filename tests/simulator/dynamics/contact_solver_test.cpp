@@ -218,24 +218,42 @@ TEST(ContactSolver, RowsThatPushedBeforeStartTheActiveSetAndChangeNoAnswer) {
   EXPECT_LT(hinted_friction.iterations, cold_friction.iterations);
 }
 
+// Ten boxes stacked in a column on the ground, four corner rows under each (on the box
+// below, or the ground; friction mu),
+// box k starting at velocity v(k), keyed 100 + k for the memo.
+struct Column {
+  std::vector<BodyInertia> inertia;
+  std::vector<BodyVelocity> falling;
+  std::vector<ContactRow> rows;
+  std::vector<int> keys;
+};
+template <typename Velocity>
+Column column_of_ten(Velocity v, double mu) {
+  Column c;
+  for (int k = 0; k < 10; ++k) {
+    c.inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
+    c.keys.push_back(100 + k);
+    BodyVelocity u;
+    u.v_WBcm_m_s = v(k);
+    c.falling.push_back(u);
+    for (const double dy : {-0.1, 0.1})
+      for (const double dx : {-0.1, 0.1}) {
+        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
+        row.body_a = k - 1;
+        row.friction = mu;
+        c.rows.push_back(row);
+      }
+  }
+  return c;
+}
+
 // The iterative solver starts from the rows' warm impulses: given the exact answer it
 // returns it at once; from nothing, a column of ten boxes takes more sweeps than it is
 // allowed. The impulses come back whole (normal and friction) for the next warm start.
 TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
   const int boxes = 10;
-  std::vector<BodyInertia> inertia;
-  std::vector<BodyVelocity> u(boxes);
-  std::vector<ContactRow> rows;
-  for (int k = 0; k < boxes; ++k) {
-    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
-    u[k].v_WBcm_m_s = {0.003, 0, -9.81e-3};  // sliding along x, with a 1 ms step of gravity
-    for (const double dy : {-0.1, 0.1})
-      for (const double dx : {-0.1, 0.1}) {
-        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
-        row.body_a = k - 1;  // the box below, or the ground
-        rows.push_back(row);
-      }
-  }
+  // Sliding along x, with a 1 ms step of gravity.
+  auto [inertia, u, rows, keys] = column_of_ten([](int) { return Eigen::Vector3d(0.003, 0, -9.81e-3); }, 0.0);
   rows[0].friction = 0.5;  // one frictional corner on the ground: the bottom box slows
   std::vector<BodyVelocity> exact_u = u;
   const ContactSolveResult exact = solve_contacts(inertia, exact_u, rows, {});
@@ -275,21 +293,7 @@ TEST(ContactSolver, TheIterativeSolverStartsFromTheWarmImpulses) {
 // an impact), goes on from its earlier solve's impulses, not from last step's again.
 TEST(SolvedIslands, AnIterativeReSolveGoesOnFromTheIslandsEarlierSolve) {
   const int boxes = 10;
-  std::vector<BodyInertia> inertia;
-  std::vector<BodyVelocity> falling(boxes);
-  std::vector<ContactRow> rows;
-  std::vector<int> keys;
-  for (int k = 0; k < boxes; ++k) {
-    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
-    keys.push_back(100 + k);
-    falling[k].v_WBcm_m_s = {0.003, 0, -9.81e-3};
-    for (const double dy : {-0.1, 0.1})
-      for (const double dx : {-0.1, 0.1}) {
-        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
-        row.body_a = k - 1;
-        rows.push_back(row);
-      }
-  }
+  auto [inertia, falling, rows, keys] = column_of_ten([](int) { return Eigen::Vector3d(0.003, 0, -9.81e-3); }, 0.0);
   ContactSolverOptions options;  // exact, but for islands over max_exact_rows: as in a pile
   options.max_exact_rows = 8;
   SolvedIslands memo;
@@ -321,22 +325,8 @@ TEST(SolvedIslands, AnIterativeReSolveGoesOnFromTheIslandsEarlierSolve) {
 // near a solve with converged friction sweeps as a solve afresh is.
 TEST(SolvedIslands, AnExactReSolveStartsFromTheIslandsEarlierSolve) {
   const int boxes = 10;
-  std::vector<BodyInertia> inertia;
-  std::vector<BodyVelocity> falling(boxes);
-  std::vector<ContactRow> rows;
-  std::vector<int> keys;
-  for (int k = 0; k < boxes; ++k) {
-    inertia.push_back(unit_box({0, 0, 0.1 + 0.2 * k}));
-    keys.push_back(100 + k);
-    falling[k].v_WBcm_m_s = {0.02 * ((k + 1) % 3) - 0.01, 0.01, -9.81e-3};  // sliding on each other
-    for (const double dy : {-0.1, 0.1})
-      for (const double dx : {-0.1, 0.1}) {
-        ContactRow row = on_ground(k, {dx, dy, 0.2 * k});
-        row.body_a = k - 1;
-        row.friction = 0.5;
-        rows.push_back(row);
-      }
-  }
+  auto [inertia, falling, rows, keys] = column_of_ten(  // sliding on each other
+      [](int k) { return Eigen::Vector3d(0.02 * ((k + 1) % 3) - 0.01, 0.01, -9.81e-3); }, 0.5);
   SolvedIslands memo;
   std::vector<BodyVelocity> first_u = falling;
   solve_contacts(inertia, first_u, rows, {}, &memo, &keys);
