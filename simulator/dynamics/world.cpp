@@ -1,7 +1,7 @@
 // World's bodies and its step: the first pass over everything (contacts, one solve, the
 // CCD of its motions), the groups that can meet within the step, and what the step keeps
 // for the next. A step's other stages live beside it: the contacts and the constrained solve
-// in world_contacts.cpp, a group's parts and rounds in world_group.cpp, the sweeping of a
+// in step_contacts.cpp and step_solve.cpp, a group's parts and rounds in world_group.cpp, the sweeping of a
 // motion in world_impacts.cpp, sleep in world_sleep.cpp.
 #include "simulator/dynamics/world.hpp"
 
@@ -34,63 +34,10 @@ geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h)
   return moved_about_com(body.X_WB, body.mass.center_of_mass_m, u.v_WBcm_m_s * h, u.w_WB_rad_s, u.w_WB_rad_s.norm() * h);
 }
 
-// The options' preconditions, each named with its value when it fails: a NaN tolerance
-// compares false with everything, and would quietly turn checks off (a NaN overlap
-// tolerance lets every pair sink), a zero event cap would end every step at its first
-// impact.
-void check_options(const WorldOptions& o) {
-  const auto fail = [](const std::string& name, double value, const std::string& expected) {
-    std::ostringstream message;
-    message << "World: option " << name << " is " << value << ", expected " << expected;
-    throw std::invalid_argument(message.str());
-  };
-  const auto positive = [&](const char* name, double value) {
-    if (!(value > 0) || !std::isfinite(value)) fail(name, value, "a positive finite number");
-  };
-  const auto non_negative = [&](const char* name, double value) {
-    if (!(value >= 0) || !std::isfinite(value)) fail(name, value, "a finite number >= 0");
-  };
-  const auto at_least = [&](const char* name, long value, long least) {
-    if (value < least) fail(name, static_cast<double>(value), "an integer >= " + std::to_string(least));
-  };
-  if (!o.gravity_m_s2.allFinite()) fail("gravity_m_s2 (its norm)", o.gravity_m_s2.norm(), "a finite vector");
-  positive("contact_tolerance_m", o.contact_tolerance_m);
-  non_negative("resting_unswept_motion_m", o.resting_unswept_motion_m);
-  positive("overlap_tolerance_m", o.overlap_tolerance_m);
-  non_negative("contact_gap_m", o.contact_gap_m);
-  if (!(o.contact_gap_m < o.contact_tolerance_m))
-    fail("contact_gap_m", o.contact_gap_m, "less than contact_tolerance_m (" + std::to_string(o.contact_tolerance_m) + " m)");
-  positive("max_depenetration_speed_m_s", o.max_depenetration_speed_m_s);
-  non_negative("restitution_threshold_m_s", o.restitution_threshold_m_s);
-  at_least("max_events_per_step", o.max_events_per_step, 1);
-  non_negative("launch_guard_slack_m_s", o.launch_guard_slack_m_s);
-  if (!(o.max_body_speed_m_s > 0)) fail("max_body_speed_m_s", o.max_body_speed_m_s, "a positive number (may be infinite)");
-  at_least("max_contacts_per_pair", o.max_contacts_per_pair, 1);
-  at_least("threads", o.threads, 1);
-  if (o.threads > 256) fail("threads", o.threads, "at most 256");
-  non_negative("sleep_after_s", o.sleep_after_s);
-  non_negative("sleep_speed_m_s", o.sleep_speed_m_s);
-  at_least("solver.iterations", o.solver.iterations, 1);
-  at_least("solver.provisional_friction_sweeps", o.solver.provisional_friction_sweeps, 1);
-  non_negative("solver.sweep_tolerance_m_s", o.solver.sweep_tolerance_m_s);
-  at_least("solver.max_exact_rows", o.solver.max_exact_rows, 0);
-  positive("ccd.time_tolerance", o.ccd.time_tolerance);
-  positive("ccd.min_culling_interval", o.ccd.min_culling_interval);
-  positive("ccd.time_split_ratio", o.ccd.time_split_ratio);
-  at_least("ccd.max_triangle_pairs", o.ccd.max_triangle_pairs, 0);
-  at_least("ccd.max_search_nodes", o.ccd.max_search_nodes, 0);
-}
-
 }  // namespace
 
-
-World::World(WorldOptions options) : options_((check_options(options), std::move(options))), pool_(options_.threads) {}
-
-bool World::known_apart(const std::map<std::pair<int, int>, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
-                        const geometry::Pose& X_WB) {
-  const auto it = known.find({i, j});
-  return it != known.end() && it->second.X_WA.matrix() == X_WA.matrix() && it->second.X_WB.matrix() == X_WB.matrix();
-}
+World::World(WorldOptions options)
+    : options_((check_world_options(options), std::move(options))), pool_(options_.threads) {}
 
 int World::add_body(RigidBody body) {
   if (!body.X_WB.matrix().allFinite()) throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite pose");
@@ -108,7 +55,7 @@ int World::add_body(RigidBody body) {
   }
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
   radius_m_.push_back(body.bounding_radius_m());
-  placed_since_step_.push_back(1);
+  mesh_memo_.placed_since_step.push_back(1);
   placed_to_wake_.push_back(0);
   quiet_s_.push_back(0);
   asleep_.push_back(0);
@@ -121,7 +68,7 @@ void World::place_body(int index, const geometry::Pose& X_WB) {
   RigidBody& body = bodies_.at(index);
   if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
   body.X_WB = X_WB;
-  placed_since_step_.at(index) = 1;
+  mesh_memo_.placed_since_step.at(index) = 1;
   placed_to_wake_.at(index) = 1;
   wake({index});
 }
@@ -138,22 +85,11 @@ void World::remove_body(int index) {
     for (int& j : partners) j -= j > index;
   }
   contacts_.clear();
-  pushed_before_.clear();
-  warm_forces_.clear();
-  pending_bounces_.clear();
+  hints_ = {};
   next_bounces_.clear();
-  nearby_.clear();
-  apart_at_end_.clear();
-  apart_at_last_end_.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
-  placed_since_step_.assign(bodies_.size(), 1);
-  placed_crossing_.clear();
-}
-
-collision::NearbyTrianglePairs* World::nearby_pairs(int i, int j) const {
-  Nearby& entry = nearby_[{std::min(i, j), std::max(i, j)}];
-  entry.used = true;
-  return &entry.pairs;
+  mesh_memo_ = {};
+  mesh_memo_.placed_since_step.assign(bodies_.size(), 1);
 }
 
 int World::find(const std::string& id) const {
@@ -210,30 +146,24 @@ struct World::GroupStepping {
 };
 
 void World::begin_step_memos() {
-  apart_at_.clear();
-  apart_at_last_end_ = std::move(apart_at_end_);
-  apart_at_end_.clear();
-  crossing_tests_ = 0;
-  for (auto it = nearby_.begin(); it != nearby_.end();) {
-    if (!it->second.used) {
-      it = nearby_.erase(it);
-    } else {
-      it->second.used = false;
-      ++it;
-    }
-  }
-  pending_bounces_ = std::move(next_bounces_);
+  mesh_memo_.begin_step();
+  hints_.pending_bounces = std::move(next_bounces_);
   next_bounces_.clear();
-  std::stable_sort(pending_bounces_.begin(), pending_bounces_.end(),
-                   [](const PendingBounce& x, const PendingBounce& y) { return x.bodies < y.bodies; });
+  std::stable_sort(hints_.pending_bounces.begin(), hints_.pending_bounces.end(),
+                   [](const ContactHints::Bounce& x, const ContactHints::Bounce& y) { return x.bodies < y.bodies; });
 }
 
 World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report) {
   const int n = static_cast<int>(bodies_.size());
   FirstPass pass;
-  pass.resting = gather_contacts(everyone);
-  pass.u = solve(prepare_solve(dt_s, dt_s, everyone, pass.resting), everyone, pass.resting, {}, pass.solved, report,
-                 nullptr, &pass.islands);
+  pass.resting = gather_contacts(bodies_, radius_m_, options_, hints_, mesh_memo_, pool_, everyone,
+                                 contacts_.size() + contacts_.size() / 4);
+  StepSolve first =
+      solve_step(bodies_, radius_m_, options_, prepare_solve(bodies_, options_, dt_s, dt_s, everyone, pass.resting),
+                 everyone, pass.resting, {}, &pass.islands);
+  tally(first, report);
+  pass.u = std::move(first.u);
+  pass.solved = std::move(first.solved);
   pass.next = candidate_poses(everyone, pass.u, 0, dt_s);
   // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the
   // step; bodies of different groups cannot, so each group is stepped on its own, its
@@ -283,10 +213,11 @@ void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<
       // Stepped before, merged since: start again from the step's start (and forget the
       // bounces that pass held back: this one finds its own).
       const auto in_group = [&](int i) { return bodies_[i].is_dynamic() && root(i) == r; };
-      next_bounces_.erase(
-          std::remove_if(next_bounces_.begin(), next_bounces_.end(),
-                         [&](const PendingBounce& p) { return in_group(p.bodies.first) || in_group(p.bodies.second); }),
-          next_bounces_.end());
+      next_bounces_.erase(std::remove_if(next_bounces_.begin(), next_bounces_.end(),
+                                         [&](const ContactHints::Bounce& p) {
+                                           return in_group(p.bodies.first) || in_group(p.bodies.second);
+                                         }),
+                          next_bounces_.end());
       for (int i : bodies) {
         bodies_[i].X_WB = g.start[i].X_WB;
         bodies_[i].v_WBcm_m_s = g.start[i].v;
@@ -361,23 +292,25 @@ void World::keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic,
     if (root(i) == i && g.stepped[i])
       contacts_.insert(contacts_.end(), g.contacts_of[i].begin(), g.contacts_of[i].end());
   report.contacts = static_cast<int>(contacts_.size());
-  pushed_before_.clear();
+  hints_.pushed_before.clear();
   for (const Contact& c : contacts_)
     if (c.impulse_N_s > 0)
-      pushed_before_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature)});
-  std::sort(pushed_before_.begin(), pushed_before_.end(),
-            [](const PushedPoint& x, const PushedPoint& y) { return x.bodies < y.bodies; });
+      hints_.pushed_before.push_back(
+          {{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature)});
+  std::sort(hints_.pushed_before.begin(), hints_.pushed_before.end(),
+            [](const ContactHints::Pushed& x, const ContactHints::Pushed& y) { return x.bodies < y.bodies; });
   // Kept only where a solve can use them: the iterative solver, an exact solver's island
   // too large for it (max_exact_rows), and the exact solver's friction sweeps. (Kept
   // always, they made a 100-box drop, where every island is small and exact, 10 % slower.)
-  warm_forces_.clear();
-  const bool iterative = options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
+  hints_.warm_forces.clear();
+  const bool iterative =
+      options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
   for (const Contact& c : pass.solved)
     if (c.impulse_N_s > 0 && (iterative || combined_friction(bodies_[c.body_a], bodies_[c.body_b]) > 0))
-      warm_forces_.push_back({{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature),
-                              c.impulse_W_N_s / dt_s});
-  std::sort(warm_forces_.begin(), warm_forces_.end(),
-            [](const PreviousForce& x, const PreviousForce& y) { return x.bodies < y.bodies; });
+      hints_.warm_forces.push_back(
+          {{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature), c.impulse_W_N_s / dt_s});
+  std::sort(hints_.warm_forces.begin(), hints_.warm_forces.end(),
+            [](const ContactHints::Force& x, const ContactHints::Force& y) { return x.bodies < y.bodies; });
 }
 
 StepReport World::step(double dt_s) {
@@ -417,10 +350,10 @@ StepReport World::step(double dt_s) {
   keep_step_contacts(pass, dynamic, g, dt_s, report);
   if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
   time_s_ += dt_s;
-  placed_since_step_.assign(bodies_.size(), 0);
+  mesh_memo_.placed_since_step.assign(bodies_.size(), 0);
   placed_to_wake_.assign(bodies_.size(), 0);
   set_kinematic_state(everyone, time_s_, 0.0);
-  report.mesh_crossing_tests = crossing_tests_;
+  report.mesh_crossing_tests = mesh_memo_.crossing_tests;
   return report;
 }
 

@@ -41,149 +41,20 @@
 
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/collision/discrete_query.hpp"
+#include "simulator/dynamics/contact.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
 #include "simulator/dynamics/disjoint_sets.hpp"
 #include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/step_contacts.hpp"
+#include "simulator/dynamics/step_solve.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
+#include "simulator/dynamics/world_options.hpp"
 
 namespace arphys::dynamics {
 
-struct WorldOptions {
-  Eigen::Vector3d gravity_m_s2{0, 0, -9.81};
-  // Feature pairs closer than this are constraints of the step.
-  double contact_tolerance_m = 1e-3;
-  // A resting pair (constraints of the step already) whose points move less than this
-  // relative to each other over a step is held by its contacts and checked at the end of
-  // its motion instead of swept by the CCD (World::earliest_impact). Capped per pair at a
-  // quarter of the thinner body's thickness, so nothing passes through anything unswept;
-  // pairs with a mesh (whose thinnest part is not known) or with restitution (what the
-  // end check finds is held, not bounced) keep to contact_tolerance_m. Most of a settling
-  // 1000-box pile's time was the CCD of such pairs and the cuts it found (10 mm: a third
-  // of the time of 1 mm over the anchor's 2 s; docs/dynamics.md).
-  double resting_unswept_motion_m = 10e-3;
-  // No pair ends a step deeper inside each other than this, or than it started the
-  // step (a tracked body pushed into a virtual one is undone at
-  // max_depenetration_speed_m_s, not at once).
-  double overlap_tolerance_m = 1e-6;
-  // The gap resting contacts keep: surfaces never quite touch at rest, so the CCD of the
-  // next step does not see them as impacts (no endless tiny events).
-  double contact_gap_m = 1e-6;
-  // Speed at which an overlap (a tracked body pushed into a virtual one faster than it
-  // could move) is undone; bounded so nothing is launched.
-  double max_depenetration_speed_m_s = 0.05;
-  // Approach speeds below this do not bounce (resting contact under gravity).
-  double restitution_threshold_m_s = 0.05;
-  // A bounce that a solve brings about within the step (a struck body striking the next)
-  // is met in turn, the step cut there and bounced from the velocities then, when the
-  // pair's restitution is at least this. Below it the pair is held together by this step's
-  // solve and pushed apart at the next step's start with the speed it missed: momentum and
-  // the restitution's share of energy kept, one step late, and no cut, which re-solves and
-  // re-sweeps the whole group (in a pile of bunnies, restitution 0.3-0.4, nearly every step).
-  double sequential_bounce_restitution = 0.5;
-  int max_events_per_step = 16;
-  // Points of resting primitive pairs (boxes, spheres, planes) that the step's motion
-  // leaves deeper than overlap_tolerance_m, with nothing meeting inside the step, are
-  // lifted out by moving the end poses (post-stabilisation, position_projection.hpp)
-  // instead of by a velocity constraint and another solve of the step. False: every
-  // such point is a constraint of a re-solve (docs/decisions/0004).
-  bool project_deep_points = true;
-  // Launch guard (see World::solve and StepReport::launches_prevented): speed (of a
-  // body's kinetic energy) a solve may add beyond twice the fastest body it couples and
-  // the depenetration speed.
-  double launch_guard_slack_m_s = 0.5;
-  // No body point moves faster than this after a solve (metres per second).
-  double max_body_speed_m_s = 60.0;
-  // A body pair's contact set is reduced to at most this many points when larger (the
-  // closest point per normal direction, then the extremes of each contact patch, which
-  // keep its support polygon; see manifold_reduction.hpp).
-  int max_contacts_per_pair = 16;
-  // Deactivation ("sleeping"): a dynamic body whose points have all moved slower than
-  // sleep_speed_m_s for sleep_after_s is stopped and held as if fixed, costing nothing,
-  // until a moving body comes within reach of it over a step; that wakes it and, in turn,
-  // the sleepers it touched when it fell asleep. 0: never (the default: the
-  // benchmark scenes measure every body every step). A woken body starts from rest.
-  double sleep_after_s = 0;
-  double sleep_speed_m_s = 0.01;
-  ContactSolverOptions solver;
-  // Threads for the step's per-pair work (contact manifolds, sweeps and end checks of
-  // depth-measured pairs: boxes, spheres, planes, convex pieces); mesh pairs, the solves
-  // and the stepping stay on the calling thread. The result does not depend on it.
-  int threads = 1;
-  // CCD settings; its work budget bounds a step's cost when meshes have sunk into each
-  // other (the step is then cut where the CCD stopped, never past a contact).
-  collision::ContinuousOptions ccd = [] {
-    collision::ContinuousOptions o;
-    // A time of impact to a millionth of the step (a nanosecond at 1 ms) is never late
-    // and early by less than the motion over that time; the CCD library's default
-    // (1e-9, for measuring it) made near-parallel edges of resting boxes take 40 % more
-    // of a 1000-box pile's time for no difference a simulation can show.
-    o.time_tolerance = 1e-6;
-    o.max_triangle_pairs = 2000;
-    o.max_search_nodes = 200000;
-    return o;
-  }();
-};
-
-struct Contact {
-  int body_a = -1, body_b = -1;  // indices into World::bodies()
-  collision::ManifoldPoint feature;
-  double impulse_N_s = 0;  // normal impulse of the last solve
-  // A lower bound on the normal velocity beyond what the gap asks (see ImpactPoint).
-  double min_normal_velocity_m_s = -std::numeric_limits<double>::infinity();
-  // The pair pushed within contact_tolerance_m of this point in the previous step's last
-  // solve (a warm-start hint for the solver, see ContactRow::pushed_before).
-  bool pushed_before = false;
-  // The force (normal and friction, world frame) within contact_tolerance_m of this point in
-  // the previous step's first solve: the iterative solver's warm start (ContactRow).
-  Eigen::Vector3d warm_force_W_N = Eigen::Vector3d::Zero();
-  Eigen::Vector3d impulse_W_N_s = Eigen::Vector3d::Zero();  // the last solve's normal and friction impulse, world frame
-};
-
-struct StepReport {
-  // Rounds of the step that had something to resolve: CCD meetings or end checks found too
-  // deep, each re-solved or, for resting primitive pairs, lifted (`projections` of them).
-  int impacts_resolved = 0;
-  int projections = 0;          // rounds whose too-deep resting points were lifted by moving end poses
-  int events = 0;               // times the step was cut at a time of impact (its busiest group's)
-  bool events_capped = false;   // a group's step ended at an impact (time kept, motion dropped)
-  int contacts = 0;             // constraints in the last solve of the step
-  bool infeasible = false;      // a body squeezed between non-dynamic ones
-  int iterative_islands = 0;    // contact islands too large for the exact solver (max_exact_rows)
-  double kkt_residual_m_s = 0;  // worst over the step's solves
-  // Deepest overlap among the step's resting contacts where they were gathered: the step's
-  // start and each cut (0: none). A cut can catch a pair checked only at the end of its
-  // motion inside mid-step, but no deeper than the rest of the step undoes at half
-  // max_depenetration_speed_m_s (World::unswept_clear_fraction); every step ends within
-  // the overlap tolerance (and its allowed creep).
-  double max_penetration_m = 0;
-  int solver_iterations = 0;
-  int launches_prevented = 0;   // bodies the launch guard slowed (a solve that would launch them)
-  int non_finite_held = 0;      // bodies a numerical failure would have made non-finite, held at rest
-  int ccd_queries = 0;          // pair motions swept by the CCD (resting pairs are checked at the end instead)
-  // Mesh pairs within reach tested for crossing at poses they were gathered at (those the
-  // last step's end check or CCD proved apart there are not tested again).
-  int mesh_crossing_tests = 0;
-  int bodies_asleep = 0;        // after the step (WorldOptions::sleep_after_s)
-};
-
-// A meeting the CCD found inside a step: the point, fixed in each body, and A's normal
-// there (body frames), for a constraint of the re-solved step.
-struct ImpactPoint {
-  Eigen::Vector3d point_A_B, point_B_B, normal_A_B;
-  // A point where a pair touching at the start ends the step this deep inside (metres;
-  // negative for a CCD meeting), and the normal velocity that lifts it out: the
-  // linearised constraint let it in, so the bound is its velocity in the last solve
-  // plus the depth (and the resting gap) over the step, a Newton step on the true
-  // end-of-step depth.
-  double end_depth_m = -1;
-  double min_normal_velocity_m_s = -std::numeric_limits<double>::infinity();
-};
-using ImpactMap = std::map<std::pair<int, int>, std::vector<ImpactPoint>>;
-
 class World {
  public:
-  // Throws std::invalid_argument naming the option and its value when one is out of its
-  // range (a NaN or negative tolerance, a zero event cap).
+  // Throws std::invalid_argument as check_world_options does.
   explicit World(WorldOptions options = {});
 
   // Adds a body; a dynamic one needs a positive mass and an invertible inertia, and
@@ -197,7 +68,7 @@ class World {
   RigidBody& body(int index) { return bodies_.at(index); }
   // Moves a body to a pose (not along a motion: nothing is swept), as add_body places
   // one: its next step tests its pairs for crossing deeper than the contact tolerance
-  // (see placed_crossing_). std::invalid_argument names the body for a non-finite pose.
+  // (see MeshCrossingMemo::placed_since_step). std::invalid_argument names the body for a non-finite pose.
   void place_body(int index, const geometry::Pose& X_WB);
   int find(const std::string& id) const;  // -1 when absent
   // Removes a body (indices after it shift down by one).
@@ -284,46 +155,6 @@ class World {
   // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                              ImpactCache& first_ccd, StepReport& report);
-  // Contacts within contact_tolerance_m at the current poses, among the participants.
-  std::vector<Contact> gather_contacts(const std::vector<int>& participants) const;
-  // A mesh pair's reduced manifold at the current poses, with the contact that pushes
-  // crossed surfaces apart (mesh_crossing_depth); updates the pair's memos.
-  std::vector<collision::ManifoldPoint> mesh_pair_features(int i, int j) const;
-  // Contacts of pair (i, j) at these features, with their warm-start hints from the last step.
-  void append_contacts(int i, int j, const std::vector<collision::ManifoldPoint>& features,
-                       std::vector<Contact>& contacts) const;
-  // The meetings the CCD found in the step, as contacts at the current poses.
-  std::vector<Contact> impact_contacts(const ImpactMap& impacts) const;
-  // What a solve needs before the impacts are known: the unknowns (the dynamic
-  // participants), their inertia and unconstrained velocities, and the resting contacts'
-  // rows. The same for every re-solve at the same poses (a group's rounds): built once
-  // for them (rebuilt every round, the rows were a twentieth of a 1000-box pile's step).
-  struct SolveSetup {
-    double h = 0;
-    // Rows start their iterative solve from their warm forces times this: h in a solve that
-    // applies the step's forces, as the step's first solve did; 0 after a cut.
-    double warm_h_s = 0;
-    std::vector<int> unknown_of_slot, slot_of_unknown, body_of_unknown;
-    std::vector<BodyInertia> inertia;
-    std::vector<BodyVelocity> u_unconstrained;
-    std::vector<ContactRow> resting_rows;
-    double deepest_m = 0;  // deepest overlap among the resting contacts
-  };
-  // h: the time left in the step; force_h: the time over which gravity and the
-  // gyroscopic term act in this solve (the whole step in its first solve, 0 after a cut).
-  SolveSetup prepare_solve(double h, double force_h, const std::vector<int>& participants,
-                           const std::vector<Contact>& resting) const;
-  // A contact's constraint row for a solve over h (setup.h): its bounds from its gap, its
-  // bounce and its own lower bound.
-  ContactRow row_of(const Contact& contact, const SolveSetup& setup, const std::vector<int>& participants) const;
-  // Solves the resting contacts (those the setup was built from) and the impact contacts
-  // for the time left in the step, from the current velocities; returns the velocities
-  // to move with, by participant, and the contacts solved (with their impulses) in
-  // `solved`; `infeasible`: whether a body was squeezed (see StepReport::infeasible).
-  std::vector<BodyVelocity> solve(const SolveSetup& setup, const std::vector<int>& participants,
-                                  const std::vector<Contact>& resting, const ImpactMap& impacts,
-                                  std::vector<Contact>& solved, StepReport& report, bool* infeasible,
-                                  SolvedIslands* memo) const;
   // What every solve of one part of a group's step shares (a part: from the step's start or
   // a cut to the step's end or the next cut): the time left, the time its force acts over,
   // the resting contacts at its start poses and the islands solved there.
@@ -379,7 +210,7 @@ class World {
   double earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                          const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting, ImpactCache* cache,
                          bool* deepening, StepReport& report,
-                         const std::vector<std::pair<int, int>>* swept_pairs = nullptr) const;
+                         const std::vector<std::pair<int, int>>* swept_pairs = nullptr);
   // One pair of earliest_impact: its slots, its cache entry, and how its motion is checked.
   struct PairSweep {
     int p = -1, q = -1;               // slots in the participants
@@ -396,30 +227,12 @@ class World {
   void answer_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                     const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B) const;
   void finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B,
-                    StepReport& report) const;
+                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B, StepReport& report);
   // How far any point of the body can be, over the step, from where it was on the motion to
   // swept_to when it moves on `now` instead (both from its pose at the step's start).
   double motion_change_m(int body, const geometry::Pose& swept_to, const geometry::ScrewMotion& now) const;
   // How deep bodies a and b are inside each other at these poses (0: apart).
   double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
-  // Two meshes whose surfaces cross at their current poses (`manifold`: theirs, within
-  // the contact tolerance): a contact that pushes B out of A along the shortest of a few
-  // ways that clear them, as deep as B must move that way (to a factor of two, up to
-  // kDeepestCrossingMeasured_m). A mesh's own manifold does not measure crossings (its
-  // distances are unsigned): a crossed pair stayed crossed for hundreds of steps.
-  // (apart: set when the meshes were found not to cross at all; nearby: the pair's
-  // triangle pairs near each other, for the intersection test at the current poses.)
-  // A `placed` pair (see placed_crossing_) is tested with no feature within the tolerance
-  // too, and its contact acts at the dynamic body's centre of mass (midway between two
-  // dynamic ones'), so that it lifts a sunken body instead of turning it.
-  std::optional<collision::ManifoldPoint> mesh_crossing_depth(const RigidBody& a, const RigidBody& b,
-                                                              const std::vector<collision::ManifoldPoint>& manifold,
-                                                              bool* apart = nullptr,
-                                                              collision::NearbyTrianglePairs* nearby = nullptr,
-                                                              bool placed = false) const;
-  // Mesh crossings deeper than this are not measured.
-  static constexpr double kDeepestCrossingMeasured_m = 0.01;
   // For a mesh pair the CCD found touching at the start, or one resting and moving less
   // than the contact tolerance (not swept): whether its surfaces cross at the end of the
   // motion; if so, the fraction of the motion before they do (query.free_until) and the
@@ -481,71 +294,9 @@ class World {
   std::vector<char> placed_to_wake_;
   std::vector<std::vector<int>> touching_;  // a sleeper's dynamic contact partners when it fell asleep
   std::vector<Contact> contacts_;
-  // Where each pair pushed in the previous step (contacts_ with an impulse), sorted by pair.
-  struct PushedPoint {
-    std::pair<int, int> bodies;
-    Eigen::Vector3d point_W;
-  };
-  std::vector<PushedPoint> pushed_before_;
-  // The forces of the previous step's first solve (every group solved over the whole step,
-  // with gravity), sorted by pair: where an iterative solve starts from.
-  struct PreviousForce {
-    std::pair<int, int> bodies;
-    Eigen::Vector3d point_W, force_W_N;
-  };
-  std::vector<PreviousForce> warm_forces_;
-  // Bounces a step held back (WorldOptions::sequential_bounce_restitution): the pair's
-  // contacts along that normal (A to B) separate at least that fast in the next step.
-  // pending_bounces_ (sorted by pair) is read by this step's contacts, next_bounces_ written for the next.
-  struct PendingBounce {
-    std::pair<int, int> bodies;
-    Eigen::Vector3d normal_W;
-    double speed_m_s = 0;
-  };
-  std::vector<PendingBounce> pending_bounces_, next_bounces_;
-  // Mesh pairs that gather_contacts found not crossing, at the poses it found them at:
-  // the CCD of their motions from those poses skips its start test (the same test at
-  // the same poses was a twelfth of the 100-bunny scene). A memo, so mutable; cleared
-  // every step.
-  struct ApartAt {
-    geometry::Pose X_WA, X_WB;
-  };
-  mutable std::map<std::pair<int, int>, ApartAt> apart_at_;
-  // Whether `known` holds pair (i, j) apart at exactly these poses (a fact about the
-  // poses, so only an exact match counts).
-  static bool known_apart(const std::map<std::pair<int, int>, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
-                          const geometry::Pose& X_WB);
-  // Mesh pairs proven apart at the end poses of a motion, by its end check
-  // (check_mesh_crossing) or by a CCD sweep from apart that met nothing: if the step ends
-  // with them there, the next step's contact pass has its own crossing test's answer at
-  // those poses. While the box pushed the pile of the 20-bunny scene, the pile's pairs were
-  // tested twice at the same poses, at either side of the step boundary: skipping the
-  // second cut the simulator's CPU over the recorded 20 s main job from 8.0 s to 7.0 s (three
-  // replays each), with the same world states (71,000 skipped tests, each checked against
-  // the test: none differed).
-  // Written during a step, read in the next.
-  mutable std::map<std::pair<int, int>, ApartAt> apart_at_end_, apart_at_last_end_;
-  mutable int crossing_tests_ = 0;  // this step's (mesh_crossing_depth's), for StepReport::mesh_crossing_tests
-  // Mesh pairs' triangle pairs near each other (collision::NearbyTrianglePairs), kept
-  // from step to step while the contact pass meets the pair (an entry a step did not use
-  // is dropped at the next). A memo, so mutable.
-  struct Nearby {
-    collision::NearbyTrianglePairs pairs;
-    bool used = false;
-  };
-  mutable std::map<std::pair<int, int>, Nearby> nearby_;
-  // Mesh bodies can cross deeper than the contact tolerance only where nothing stepped
-  // them there: a body added or placed (or every body, after a removal) since the last step.
-  // Their pairs are tested for crossing with no feature within the tolerance, and a
-  // pair found crossing stays in placed_crossing_ (tested so every step) until it is
-  // apart: a crossing pair can turn out of the tolerance before it is out. (A pose set
-  // through body() is not seen: add_body and place_body place.) (Only
-  // the shallow crossings of stepped pairs were pushed out: a mesh cube placed 1.6 mm
-  // into a box table had no feature within 1 mm and fell through it.) Pairs that
-  // stepping left crossing are not placed ones: they are pushed out where they cross.
-  std::vector<char> placed_since_step_;
-  mutable std::set<std::pair<int, int>> placed_crossing_;
-  collision::NearbyTrianglePairs* nearby_pairs(int i, int j) const;
+  ContactHints hints_;                              // what the last step left this one's contacts
+  std::vector<ContactHints::Bounce> next_bounces_;  // what this step leaves the next (unsorted)
+  MeshCrossingMemo mesh_memo_;
   double time_s_ = 0;
 };
 

@@ -43,7 +43,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // pile's are a megabyte).
     const bool at_start = elapsed == 0;
     std::vector<Contact> gathered;
-    if (!at_start) gathered = gather_contacts(participants);
+    if (!at_start) gathered = gather_contacts(bodies_, radius_m_, options_, hints_, mesh_memo_, pool_, participants, 0);
     // Gravity and the gyroscopic term act once per step, over all of it, in its first
     // solve: the velocities are end-of-step velocities (symplectic Euler), and a cut
     // carries them on. (Applied again after each cut, bodies with many events fell at
@@ -62,9 +62,13 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       motion.u = first.u;
       outcome.contacts = first.solved;
     } else {
-      part.setup = prepare_solve(h, part.force_h, participants, part.resting);
-      motion.u =
-          solve(*part.setup, participants, part.resting, {}, outcome.contacts, report, &motion.squeezed, &part.islands);
+      part.setup = prepare_solve(bodies_, options_, h, part.force_h, participants, part.resting);
+      StepSolve solved =
+          solve_step(bodies_, radius_m_, options_, *part.setup, participants, part.resting, {}, &part.islands);
+      tally(solved, report);
+      motion.squeezed = solved.infeasible;
+      motion.u = std::move(solved.u);
+      outcome.contacts = std::move(solved.solved);
     }
     motion.next = candidate_poses(participants, motion.u, elapsed, h);
     // Answers valid while the start poses are these: the step's first sweep, then fresh
@@ -179,9 +183,13 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
         return;
       }
     }
-    if (!part.setup) part.setup = prepare_solve(part.h, part.force_h, participants, part.resting);
-    std::vector<BodyVelocity> u_resolved =
-        solve(*part.setup, participants, part.resting, impacts, contacts, report, &motion.squeezed, &part.islands);
+    if (!part.setup) part.setup = prepare_solve(bodies_, options_, part.h, part.force_h, participants, part.resting);
+    StepSolve resolved =
+        solve_step(bodies_, radius_m_, options_, *part.setup, participants, part.resting, impacts, &part.islands);
+    tally(resolved, report);
+    motion.squeezed = resolved.infeasible;
+    contacts = std::move(resolved.solved);
+    std::vector<BodyVelocity> u_resolved = std::move(resolved.u);
     // Asked only to stop digging in, and it cannot be had: keep the motion.
     if (motion.squeezed && motion.tau >= 1.0) return;
     std::vector<geometry::Pose> next_resolved = candidate_poses(participants, u_resolved, part.elapsed, part.h);

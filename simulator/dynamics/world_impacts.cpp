@@ -1,6 +1,7 @@
 // Sweeping a step's motions: the CCD of every pair whose swept boxes meet, the check at
 // the end of a resting pair's motion, the lift of resting points left too deep, and where
-// a step must be cut. The stage before: the contacts and the solve (world_contacts.cpp).
+// a step must be cut. The stages before: the contacts and the solve (step_contacts.hpp,
+// step_solve.hpp).
 #include "simulator/dynamics/world.hpp"
 
 #include <algorithm>
@@ -49,7 +50,7 @@ Eigen::AlignedBox3d World::swept_box(int body, const geometry::Pose& next) const
 double World::earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting,
                               ImpactCache* cache, bool* deepening, StepReport& report,
-                              const std::vector<std::pair<int, int>>* swept_pairs) const {
+                              const std::vector<std::pair<int, int>>* swept_pairs) {
   std::vector<std::pair<int, int>> own;
   if (!swept_pairs) {
     std::vector<Eigen::AlignedBox3d> swept;
@@ -172,7 +173,8 @@ void World::classify_sweep(PairSweep& sweep, const std::vector<int>& participant
   // start poses: in a pile of 16 resting bunnies the CCD of such pairs, 250-400 queries
   // a frame, was 40 % of the live simulator's time and put it seconds behind the camera.
   const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
-  sweep.apart_at_start = known_apart(apart_at_, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
+  sweep.apart_at_start =
+      MeshCrossingMemo::known_apart(mesh_memo_.apart_at, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
   sweep.resting_slowly = resting_pairs && ((primitive(a) && primitive(b)) || sweep.apart_at_start) &&
                          relative_motion_m <= max_unswept_motion_m(a, b) &&
                          std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
@@ -242,9 +244,9 @@ void World::answer_sweep(PairSweep& sweep, const std::vector<int>& participants,
   query.deepens = !query.hits.empty();
 }
 
-void World::finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                         const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B,
-                         StepReport& report) const {
+void World::finish_sweep(PairSweep& sweep, const std::vector<int>& participants,
+                         const std::vector<geometry::Pose>& next, const geometry::ScrewMotion& motion_A,
+                         const geometry::ScrewMotion& motion_B, StepReport& report) {
   const int i = participants[sweep.p], j = participants[sweep.q];
   const RigidBody& a = bodies_[i];
   const RigidBody& b = bodies_[j];
@@ -252,12 +254,12 @@ void World::finish_sweep(PairSweep& sweep, const std::vector<int>& participants,
   const collision::ContinuousResult& r = query.result;
   if (sweep.swept_by_ccd) ++report.ccd_queries;
   if (depth_measured(a, b)) return;
-  // Swept from apart without meeting: apart at the end (apart_at_end_).
-  if (query.swept && !r.collides) apart_at_end_[{i, j}] = {next[sweep.p], next[sweep.q]};
+  // Swept from apart without meeting: apart at the end (MeshCrossingMemo::apart_at_end).
+  if (query.swept && !r.collides) mesh_memo_.apart_at_end[{i, j}] = {next[sweep.p], next[sweep.q]};
   if (!sweep.resting_slowly && !touching_at_start(r)) return;
   if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
-    check_mesh_crossing(a, motion_A, b, motion_B, sweep.relative_motion_m, query, nearby_pairs(i, j));
-    if (query.free_until == 1) apart_at_end_[{i, j}] = {next[sweep.p], next[sweep.q]};
+    check_mesh_crossing(a, motion_A, b, motion_B, sweep.relative_motion_m, query, mesh_memo_.nearby_pairs(i, j));
+    if (query.free_until == 1) mesh_memo_.apart_at_end[{i, j}] = {next[sweep.p], next[sweep.q]};
   }
   query.deepens = !query.hits.empty() || query.free_until < 1;
 }

@@ -1,8 +1,8 @@
 #pragma once
-// What World's files share. World is one class in five files, one per stage of a step:
-// world.cpp holds the bodies, the step's first pass and its groups; world_contacts.cpp finds
-// the contacts at the current poses and solves for the constrained velocities;
-// world_group.cpp steps a group part by part (rounds of re-solves, cuts);
+// What World's files and its stages share. The stages with typed inputs and outputs are
+// step_contacts.hpp (the contacts at the current poses) and step_solve.hpp (the constrained
+// velocities); World's own files: world.cpp holds the bodies, the step's first pass and its
+// groups; world_group.cpp steps a group part by part (rounds of re-solves, cuts);
 // world_impacts.cpp sweeps the motions the solves give (CCD, end-of-motion checks, lifts of
 // too-deep points, where to cut); world_sleep.cpp puts bodies to sleep and wakes them. Not
 // part of the library's interface.
