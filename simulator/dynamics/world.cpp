@@ -175,13 +175,14 @@ World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone
   };
   for (const Contact& c : pass.resting) join(c.body_a, c.body_b);
   pass.swept.resize(n);
-  for (int i = 0; i < n; ++i) pass.swept[i] = swept_box(i, pass.next[i]);
+  for (int i = 0; i < n; ++i) pass.swept[i] = swept_box(bodies_[i], radius_m_[i], pass.next[i]);
   const std::vector<std::pair<int, int>> swept_pairs = collision::overlapping_pairs(pass.swept);
   for (const auto& [i, j] : swept_pairs) join(i, j);
   // The first CCD pass, for everything at once (the same pairs the groups would sweep):
   // most groups meet nothing and just move; only the others are stepped on their own.
   const std::vector<std::pair<int, int>> resting_pairs = pairs_of(pass.resting);
-  earliest_impact(everyone, pass.next, &resting_pairs, nullptr, &pass.ccd, nullptr, report, &swept_pairs);
+  report.ccd_queries +=
+      sweep_motions(sweep_world(), everyone, pass.next, &resting_pairs, &pass.ccd, nullptr, &swept_pairs).ccd_queries;
   for (const auto& [pair, query] : pass.ccd) {
     if (query.deepens || meets_inside(query.result))
       pass.eventful.insert(pass.groups.find(bodies_[pair.first].is_dynamic() ? pair.first : pair.second));

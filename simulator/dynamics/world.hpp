@@ -47,6 +47,7 @@
 #include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/dynamics/step_contacts.hpp"
 #include "simulator/dynamics/step_solve.hpp"
+#include "simulator/dynamics/step_sweep.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
 #include "simulator/dynamics/world_options.hpp"
 
@@ -77,23 +78,6 @@ class World {
   const WorldOptions& options() const { return options_; }
 
  private:
-  // A pair's CCD answer for motions from the current poses to next_A, next_B.
-  struct CachedImpact {
-    bool valid = false;
-    geometry::Pose next_A, next_B;
-    collision::ContinuousResult result;
-    std::vector<ImpactPoint> hits;  // the meeting, or the points a touching pair digs in at
-    bool deepens = false;           // touching at the start, deeper than allowed at the end
-    double allowed_depth_m = 0;     // for a touching pair: the deeper of overlap_tolerance_m and its start depth
-    // A touching pair's deepest overlap at the start poses, kept when the pair is asked again
-    // from the same start with other end poses (a re-solve moves every body of its island);
-    // negative: not measured. (Measured again each time, it was half the box-box manifolds of
-    // a 1000-box pile's step.)
-    double start_depth_m = -1;
-    bool swept = false;             // the CCD ran and timed the motion (not touching at the start)
-    double free_until = 1;          // a touching mesh pair: the fraction of the motion before its surfaces cross
-  };
-  using ImpactCache = std::map<std::pair<int, int>, CachedImpact>;
   // A dynamic body's state moves through a step in its group (see step()); a group's
   // participants are its dynamic bodies and every non-dynamic body, in body order.
   // What the step's first solve (all bodies at once) gave a group, by participant.
@@ -197,52 +181,6 @@ class World {
   // velocities u (by participant).
   std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
                                               double elapsed, double h) const;
-  // Box containing a body's bounding ball along its screw motion to `next`.
-  Eigen::AlignedBox3d swept_box(int body, const geometry::Pose& next) const;
-  // Earliest time of impact (fraction of h) of the participants' motions from their
-  // current poses to `next` (by participant), or 1. `cache` (optional) answers pairs
-  // whose motions it has seen since the poses last changed. `deepening`: set when a
-  // pair touching at the start ends deeper than overlap_tolerance_m (its points are in
-  // `meeting`, with no time of impact). resting_pairs: body pairs with contacts at the
-  // current poses (sorted); those moving less than contact_tolerance_m relative to each
-  // other are checked at the end of their motion, like touching ones, not swept.
-  // swept_pairs: the participants' pairs (by slot) whose swept boxes overlap, if already known.
-  double earliest_impact(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                         const std::vector<std::pair<int, int>>* resting_pairs, ImpactMap* meeting, ImpactCache* cache,
-                         bool* deepening, StepReport& report,
-                         const std::vector<std::pair<int, int>>* swept_pairs = nullptr);
-  // One pair of earliest_impact: its slots, its cache entry, and how its motion is checked.
-  struct PairSweep {
-    int p = -1, q = -1;               // slots in the participants
-    CachedImpact* query = nullptr;
-    bool fresh = false;               // its motions changed since its entry was answered
-    bool apart_at_start = false, resting_slowly = false, swept_by_ccd = false;
-    double relative_motion_m = 0;
-  };
-  // earliest_impact's passes for a fresh pair: how it is checked (in order: reads the
-  // memos); its CCD and, for a depth-measured pair, its end check (any thread); then in
-  // order its counts, memos and, for a mesh pair, its end check.
-  void classify_sweep(PairSweep& sweep, const std::vector<int>& participants, double relative_motion_m, double curve_m,
-                      const std::vector<std::pair<int, int>>* resting_pairs) const;
-  void answer_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B) const;
-  void finish_sweep(PairSweep& sweep, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                    const geometry::ScrewMotion& motion_A, const geometry::ScrewMotion& motion_B, StepReport& report);
-  // How far any point of the body can be, over the step, from where it was on the motion to
-  // swept_to when it moves on `now` instead (both from its pose at the step's start).
-  double motion_change_m(int body, const geometry::Pose& swept_to, const geometry::ScrewMotion& now) const;
-  // How deep bodies a and b are inside each other at these poses (0: apart).
-  double deepest_overlap(int a, const geometry::Pose& X_WA, int b, const geometry::Pose& X_WB) const;
-  // For a mesh pair the CCD found touching at the start, or one resting and moving less
-  // than the contact tolerance (not swept): whether its surfaces cross at the end of the
-  // motion; if so, the fraction of the motion before they do (query.free_until) and the
-  // features touching there (query.hits). nearby: as for mesh_crossing_depth.
-  void check_mesh_crossing(const RigidBody& a, const geometry::ScrewMotion& motion_a, const RigidBody& b,
-                           const geometry::ScrewMotion& motion_b, double relative_motion_m, CachedImpact& query,
-                           collision::NearbyTrianglePairs* nearby) const;
-  // The relative motion under which a resting pair is checked at the end of its motion
-  // instead of swept (WorldOptions::resting_unswept_motion_m, capped by the pair's shapes).
-  double max_unswept_motion_m(const RigidBody& a, const RigidBody& b) const;
   // The fraction tau of the motion to next (over h_s), or less (halved), at which no
   // unswept pair whose depth is measured (see CachedImpact::swept; not a mesh pair)
   // overlaps deeper than allowed or than the rest of the step can undo: a step cut at tau
@@ -263,11 +201,13 @@ class World {
                            const ImpactMap& meeting, const ImpactCache& cache,
                            const std::vector<std::pair<int, int>>& resting_pairs) const;
   // The fraction of the motions to `next` at which no touching pair that deepens is
-  // deeper than it may be (halving from 1): the pairs `meeting` names, as earliest_impact
+  // deeper than it may be (halving from 1): the pairs `meeting` names, as sweep_motions
   // left them in `cache`. (Every pair that deepens is in `meeting`; walking the whole
   // cache, every pair of the step's first sweep, was a few percent of a pile's step.)
   double shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                           const ImpactCache& cache, const ImpactMap& meeting) const;
+  // What the sweep stage reads of this world.
+  SweepWorld sweep_world() { return {bodies_, radius_m_, options_, mesh_memo_, pool_}; }
   // Kinematic participants to their trajectory pose at t_s, moving as they will over
   // the next h_s (h_s = 0: their instantaneous twist).
   void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);

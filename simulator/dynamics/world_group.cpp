@@ -128,7 +128,7 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
       if (!swept_to.empty() && motion.next[s].matrix() == swept_to[s].matrix()) {
         changed[s] = 0;
       } else {
-        swept_boxes[s] = swept_box(participants[s], motion.next[s]);
+        swept_boxes[s] = swept_box(bodies_[participants[s]], radius_m_[participants[s]], motion.next[s]);
       }
     }
     swept_pairs = swept_to.empty() ? collision::overlapping_pairs(swept_boxes)
@@ -143,10 +143,12 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
   bool lifted = false, lifts_meet = false;
   for (int round = 0;; ++round) {
     ImpactMap meeting;
-    bool deepening = false;
     sweep();
-    motion.tau = earliest_impact(participants, motion.next, &part.resting_pairs, &meeting, &cache, &deepening, report,
-                                 &swept_pairs);
+    const Sweep swept =
+        sweep_motions(sweep_world(), participants, motion.next, &part.resting_pairs, &cache, &meeting, &swept_pairs);
+    report.ccd_queries += swept.ccd_queries;
+    motion.tau = swept.tau;
+    bool deepening = swept.deepening;
     lifts_meet |= lifted && motion.tau < 1.0;
     lifted = false;
     // A squeezed body overlaps whatever the solve does: reported, not chased.
@@ -287,7 +289,7 @@ void World::commit_part(const std::vector<int>& participants, const PartMotion& 
     const geometry::Pose X =
         motion.tau >= 1.0 ? motion.next[s] : geometry::ScrewMotion(body.X_WB, motion.next[s]).pose_at(motion.tau);
     if (X.matrix().allFinite() && u.v_WBcm_m_s.allFinite() && u.w_WB_rad_s.allFinite()) {
-      outcome.swept[s].extend(swept_box(participants[s], X));
+      outcome.swept[s].extend(swept_box(bodies_[participants[s]], radius_m_[participants[s]], X));
       body.X_WB = X;
       body.v_WBcm_m_s = u.v_WBcm_m_s;
       body.w_WB_rad_s = u.w_WB_rad_s;

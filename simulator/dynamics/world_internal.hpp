@@ -1,11 +1,10 @@
 #pragma once
-// What World's files and its stages share. The stages with typed inputs and outputs are
-// step_contacts.hpp (the contacts at the current poses) and step_solve.hpp (the constrained
-// velocities); World's own files: world.cpp holds the bodies, the step's first pass and its
-// groups; world_group.cpp steps a group part by part (rounds of re-solves, cuts);
-// world_impacts.cpp sweeps the motions the solves give (CCD, end-of-motion checks, lifts of
-// too-deep points, where to cut); world_sleep.cpp puts bodies to sleep and wakes them. Not
-// part of the library's interface.
+// What World's files and its stages share. The stages with typed inputs and outputs:
+// step_contacts.hpp (the contacts at the current poses), step_solve.hpp (the constrained
+// velocities), step_sweep.hpp (the CCD and end checks of the motions). World's own files:
+// world.cpp the bodies, the step's first pass and its groups; world_group.cpp a group's
+// parts (rounds of re-solves, cuts); world_impacts.cpp lifts of too-deep points and where
+// to cut; world_sleep.cpp sleep. Not part of the library's interface.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>

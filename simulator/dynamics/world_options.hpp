@@ -14,7 +14,7 @@ struct WorldOptions {
   double contact_tolerance_m = 1e-3;
   // A resting pair (constraints of the step already) whose points move less than this
   // relative to each other over a step is held by its contacts and checked at the end of
-  // its motion instead of swept by the CCD (World::earliest_impact). Capped per pair at a
+  // its motion instead of swept by the CCD (sweep_motions, step_sweep.hpp). Capped per pair at a
   // quarter of the thinner body's thickness, so nothing passes through anything unswept;
   // pairs with a mesh (whose thinnest part is not known) or with restitution (what the
   // end check finds is held, not bounced) keep to contact_tolerance_m. Most of a settling
