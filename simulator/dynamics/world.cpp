@@ -73,6 +73,28 @@ void World::place_body(int index, const geometry::Pose& X_WB) {
   wake({index});
 }
 
+void World::set_velocity(int index, const Eigen::Vector3d& v_WBcm_m_s, const Eigen::Vector3d& w_WB_rad_s) {
+  RigidBody& body = bodies_.at(index);
+  if (!body.is_dynamic()) throw std::invalid_argument("World::set_velocity: body '" + body.id + "' is not dynamic");
+  if (!v_WBcm_m_s.allFinite() || !w_WB_rad_s.allFinite())
+    throw std::invalid_argument("World::set_velocity: body '" + body.id + "': non-finite velocity");
+  body.v_WBcm_m_s = v_WBcm_m_s;
+  body.w_WB_rad_s = w_WB_rad_s;
+  wake({index});
+}
+
+void World::set_origin_velocity(int index, const Eigen::Vector3d& v_WBo_m_s, const Eigen::Vector3d& w_WB_rad_s) {
+  const RigidBody& body = bodies_.at(index);
+  set_velocity(index, v_WBo_m_s + w_WB_rad_s.cross(body.com_W() - body.X_WB.translation()), w_WB_rad_s);
+}
+
+void World::set_trajectory(int index, KinematicTrajectory trajectory) {
+  RigidBody& body = bodies_.at(index);
+  if (body.motion != BodyMotion::kKinematic)
+    throw std::invalid_argument("World::set_trajectory: body '" + body.id + "' is not kinematic");
+  body.trajectory = std::move(trajectory);
+}
+
 void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);

@@ -66,7 +66,16 @@ class World {
   double time_s() const { return time_s_; }
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   bool asleep(int index) const { return asleep_.at(index) != 0; }
-  RigidBody& body(int index) { return bodies_.at(index); }
+  // A body's shape, mass and material are fixed once it is added; its state changes by
+  // stepping and by the calls below, each of which throws std::invalid_argument naming the
+  // body for a value it cannot take.
+  const RigidBody& body(int index) const { return bodies_.at(index); }
+  // A dynamic body's velocity (of its centre of mass; world frame), finite. Wakes it.
+  void set_velocity(int index, const Eigen::Vector3d& v_WBcm_m_s, const Eigen::Vector3d& w_WB_rad_s);
+  // The same from the velocity of the body frame's origin, as scene files and world states give it.
+  void set_origin_velocity(int index, const Eigen::Vector3d& v_WBo_m_s, const Eigen::Vector3d& w_WB_rad_s);
+  // Where a kinematic body is driven (tracked poses; KinematicTrajectory::add checks them).
+  void set_trajectory(int index, KinematicTrajectory trajectory);
   // Moves a body to a pose (not along a motion: nothing is swept), as add_body places
   // one: its next step tests its pairs for crossing deeper than the contact tolerance
   // (see MeshCrossingMemo::placed_since_step). std::invalid_argument names the body for a non-finite pose.

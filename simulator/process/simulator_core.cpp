@@ -257,13 +257,12 @@ RecoveryReport SimulatorCore::recover(const std::vector<RecoveredBody>& bodies) 
     if (object->role != config::Role::kVirtual || object->motion != config::Motion::kDynamic) continue;  // static: the scene's
     const int index = world_.find(saved.body_id);
     if (index >= 0) {  // a body the scene starts with: continue it where it was
-      dynamics::RigidBody& body = world_.body(index);
       if (!saved.X_WB.matrix().allFinite() || !saved.v_WB_m_s.allFinite() || !saved.w_WB_rad_s.allFinite()) {
         report.lost.push_back(saved.body_id + ": non-finite state");
         continue;
       }
       world_.place_body(index, saved.X_WB);
-      body.set_origin_velocity(saved.v_WB_m_s, saved.w_WB_rad_s);
+      world_.set_origin_velocity(index, saved.v_WB_m_s, saved.w_WB_rad_s);
       ++report.recovered;
       continue;
     }
@@ -287,7 +286,7 @@ void SimulatorCore::update_kinematic(double t0, double t1) {
     if (index < 0 || !driver.has_pose()) continue;
     auto seen = last_seen_s_.find(id);
     if (seen != last_seen_s_.end() && t0 - seen->second > options_.stale_timeout_s) driver.on_lost(t0);
-    dynamics::RigidBody& body = world_.body(index);
+    const dynamics::RigidBody& body = world_.body(index);
     const geometry::Pose from = body.X_WB;
     geometry::Pose to = driver.trajectory().pose_at(t1);
     const geometry::ScrewMotion motion(from, to);
@@ -306,9 +305,10 @@ void SimulatorCore::update_kinematic(double t0, double t1) {
       }
     }
     if (earliest < 1.0) to = motion.pose_at(earliest);
-    body.trajectory = dynamics::KinematicTrajectory();
-    body.trajectory.add(t0, from);
-    if (t1 > t0) body.trajectory.add(t1, to);
+    dynamics::KinematicTrajectory trajectory;
+    trajectory.add(t0, from);
+    if (t1 > t0) trajectory.add(t1, to);
+    world_.set_trajectory(index, std::move(trajectory));
   }
 }
 

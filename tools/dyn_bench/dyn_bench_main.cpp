@@ -422,7 +422,9 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
     for (int run = 0; run < runs; ++run) {
       arphys::dynamics::World world = arphys::scene::build_world(scene);
       for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
-        if (world.bodies()[i].is_dynamic()) world.body(i).v_WBcm_m_s.x() += start_velocity_perturbation_m_s(i, run);
+        if (const arphys::dynamics::RigidBody& body = world.body(i); body.is_dynamic())
+          world.set_velocity(i, body.v_WBcm_m_s + Eigen::Vector3d(start_velocity_perturbation_m_s(i, run), 0, 0),
+                             body.w_WB_rad_s);
       const long steps = std::lround(duration / scene.time_step_s);
       long impacts = 0, done = 0, crossed = 0, in_fixed = 0, waited = 0;
       double wall = 0;  // seconds in World::step

@@ -47,12 +47,12 @@ class ArphysEngine : public Engine {
     }
   }
   void set_kinematic(int i, const Eigen::Isometry3d& X, const Eigen::Vector3d& v) override {
-    dynamics::RigidBody& body = world_->body(i);
-    body.trajectory = dynamics::KinematicTrajectory();
-    body.trajectory.add(world_->time_s(), X);
+    dynamics::KinematicTrajectory trajectory;
+    trajectory.add(world_->time_s(), X);
     Eigen::Isometry3d next = X;
     next.translation() += v * dt_;
-    body.trajectory.add(world_->time_s() + dt_, next);
+    trajectory.add(world_->time_s() + dt_, next);
+    world_->set_trajectory(i, std::move(trajectory));
   }
   void step() override { world_->step(dt_); }
   Eigen::Isometry3d pose(int i) const override { return world_->bodies()[i].X_WB; }

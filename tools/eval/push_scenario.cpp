@@ -79,8 +79,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
   const auto wall_start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
     const double t0 = k * dt, t1 = (k + 1) * dt;
-    dynamics::RigidBody& box_body = world.body(box);
-    const geometry::Pose from = box_body.X_WB;
+    const geometry::Pose from = world.body(box).X_WB;
     // Frames captured up to t0 (a frame's pose is the truth at its capture time, noised).
     bool teleport_to_new = false;
     geometry::Pose newest = from;
@@ -108,18 +107,20 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
     geometry::Pose to = from;
     if (s.drive == Drive::kTeleport) {
       // Jumps: no motion, no velocity. Placed, so the world sees the jump (its pairs are
-      // tested for overlap, the sleepers it lands in wake); set through body() instead, it
-      // passed through the sleeping bunny and the noise-free cells never pushed it.
+      // tested for overlap, the sleepers it lands in wake); a pose set directly would pass
+      // through a sleeping bunny unseen.
       if (teleport_to_new) world.place_body(box, newest);
-      to = box_body.X_WB;
-      box_body.trajectory = dynamics::KinematicTrajectory();
-      box_body.trajectory.add(t0, to);
-      box_body.trajectory.add(t1, to);
+      to = world.body(box).X_WB;
+      dynamics::KinematicTrajectory held;
+      held.add(t0, to);
+      held.add(t1, to);
+      world.set_trajectory(box, std::move(held));
     } else if (driver.has_pose()) {
       to = driver.trajectory().pose_at(t1);
-      box_body.trajectory = dynamics::KinematicTrajectory();
-      box_body.trajectory.add(t0, from);
-      box_body.trajectory.add(t1, to);
+      dynamics::KinematicTrajectory moved;
+      moved.add(t0, from);
+      moved.add(t1, to);
+      world.set_trajectory(box, std::move(moved));
     }
     const dynamics::StepReport report = world.step(dt);
     const dynamics::RigidBody& b = world.bodies()[bunny];

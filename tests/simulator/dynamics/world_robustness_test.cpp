@@ -2,16 +2,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/scene/scene_world.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
+#include "simulator/scene/scene_world.hpp"
 #include "tests/simulator/dynamics/test_bodies.hpp"
 
 namespace arphys::dynamics {
@@ -442,7 +444,7 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
   world.add_body(base);
   const double gap = world.options().contact_gap_m;
   const int top = world.add_body(cube("top", {0, 0, 0.3 + gap}));
-  world.body(top).v_WBcm_m_s = {0.1, 0, 0};  // 0.1 mm per step, frictionless
+  world.set_velocity(top, {0.1, 0, 0}, world.body(top).w_WB_rad_s);  // 0.1 mm per step, frictionless
   int queries = 0;
   for (int k = 0; k < 100; ++k) queries += world.step(1e-3).ccd_queries;
   EXPECT_EQ(queries, 0);
@@ -499,7 +501,7 @@ TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
     fixed.motion = BodyMotion::kStatic;
     world.add_body(fixed);
     const int slider = world.add_body(mesh_cube("slider", {-0.05, 0, 0.0805}));
-    world.body(slider).v_WBcm_m_s = {speed_m_s, 0, 0};
+    world.set_velocity(slider, {speed_m_s, 0, 0}, world.body(slider).w_WB_rad_s);
     std::vector<int> tests, queries;
     for (int k = 0; k < 20; ++k) {
       const StepReport report = world.step(0.01);
@@ -636,6 +638,43 @@ TEST(WorldRobustness, EventsPerStepAreCapped) {
       EXPECT_GT(body.X_WB.translation().z(), 0.09) << body.id;  // all above the floor
     }
   }
+}
+
+}  // namespace
+}  // namespace arphys::dynamics
+
+namespace arphys::dynamics {
+namespace {
+
+// A body's state is set through World, which refuses what the body cannot take, naming it.
+TEST(WorldContracts, SettersRefuseWhatABodyCannotTakeNamingIt) {
+  World world;
+  world.add_body(testing::plane_body());
+  RigidBody offset = testing::cube("offset", {0, 0, 0.5});
+  offset.mass.center_of_mass_m = {0.05, 0, 0};
+  const int cube = world.add_body(offset);
+  const auto message = [](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  EXPECT_NE(message([&] {
+              world.set_velocity(0, {1, 0, 0}, {0, 0, 0});
+            }).find("'floor' is not dynamic"),
+            std::string::npos);
+  EXPECT_NE(message([&] {
+              world.set_velocity(cube, {NAN, 0, 0}, {0, 0, 0});
+            }).find("'offset': non-finite"),
+            std::string::npos);
+  EXPECT_NE(message([&] { world.set_trajectory(cube, KinematicTrajectory()); }).find("'offset' is not kinematic"),
+            std::string::npos);
+  // The origin's velocity: the centre of mass 5 cm off it moves with w x r besides.
+  world.set_origin_velocity(cube, {0, 0, 0}, {0, 0, 2});
+  EXPECT_TRUE(world.body(cube).v_WBcm_m_s.isApprox(Eigen::Vector3d(0, 0.1, 0), 1e-12));
+  EXPECT_TRUE(world.body(cube).origin_velocity().isZero(1e-12));
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ TEST(SceneWorld, AMeshSlidingSlowlyOnTheTableIsCheckedAtTheEndOfItsMotionNotSwep
   const RigidBody& table = world.bodies()[world.find("table")];
   const Eigen::Vector3d rest = body.X_WB.translation();
   EXPECT_NEAR(rest.z(), 0.04, 1e-4);  // on its face, not on an edge
-  world.body(index).v_WBcm_m_s = Eigen::Vector3d(0.05, 0, 0);
+  world.set_velocity(index, Eigen::Vector3d(0.05, 0, 0), world.body(index).w_WB_rad_s);
   int swept = 0;
   for (int k = 0; k < 100; ++k) {
     swept += world.step(0.01).ccd_queries;
