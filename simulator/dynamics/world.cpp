@@ -55,11 +55,11 @@ int World::add_body(RigidBody body) {
   }
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
   radius_m_.push_back(body.bounding_radius_m());
-  mesh_memo_.placed_since_step.push_back(1);
-  placed_to_wake_.push_back(0);
-  quiet_s_.push_back(0);
-  asleep_.push_back(0);
-  touching_.emplace_back();
+  state_.mesh.placed_since_step.push_back(1);
+  state_.sleep.placed_to_wake.push_back(0);
+  state_.sleep.quiet_s.push_back(0);
+  state_.sleep.asleep.push_back(0);
+  state_.sleep.touching.emplace_back();
   bodies_.push_back(std::move(body));
   return static_cast<int>(bodies_.size()) - 1;
 }
@@ -68,8 +68,8 @@ void World::place_body(int index, const geometry::Pose& X_WB) {
   RigidBody& body = bodies_.at(index);
   if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
   body.X_WB = X_WB;
-  mesh_memo_.placed_since_step.at(index) = 1;
-  placed_to_wake_.at(index) = 1;
+  state_.mesh.placed_since_step.at(index) = 1;
+  state_.sleep.placed_to_wake.at(index) = 1;
   wake({index});
 }
 
@@ -98,20 +98,20 @@ void World::set_trajectory(int index, KinematicTrajectory trajectory) {
 void World::remove_body(int index) {
   bodies_.erase(bodies_.begin() + index);
   radius_m_.erase(radius_m_.begin() + index);
-  quiet_s_.erase(quiet_s_.begin() + index);
-  placed_to_wake_.erase(placed_to_wake_.begin() + index);
-  asleep_.erase(asleep_.begin() + index);
-  touching_.erase(touching_.begin() + index);
-  for (auto& partners : touching_) {
+  state_.sleep.quiet_s.erase(state_.sleep.quiet_s.begin() + index);
+  state_.sleep.placed_to_wake.erase(state_.sleep.placed_to_wake.begin() + index);
+  state_.sleep.asleep.erase(state_.sleep.asleep.begin() + index);
+  state_.sleep.touching.erase(state_.sleep.touching.begin() + index);
+  for (auto& partners : state_.sleep.touching) {
     partners.erase(std::remove(partners.begin(), partners.end(), index), partners.end());
     for (int& j : partners) j -= j > index;
   }
-  contacts_.clear();
-  hints_ = {};
-  next_bounces_.clear();
+  state_.contacts.clear();
+  state_.hints = {};
+  state_.held_back_bounces.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
-  mesh_memo_ = {};
-  mesh_memo_.placed_since_step.assign(bodies_.size(), 1);
+  state_.mesh = {};
+  state_.mesh.placed_since_step.assign(bodies_.size(), 1);
 }
 
 int World::find(const std::string& id) const {
@@ -147,7 +147,7 @@ std::vector<geometry::Pose> World::candidate_poses(const std::vector<int>& parti
     if (body.is_dynamic()) {
       next[s] = integrate(body, u[s], h);
     } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
-      next[s] = body.trajectory.pose_at(time_s_ + elapsed + h);
+      next[s] = body.trajectory.pose_at(state_.time_s + elapsed + h);
     } else {
       next[s] = body.X_WB;
     }
@@ -155,31 +155,19 @@ std::vector<geometry::Pose> World::candidate_poses(const std::vector<int>& parti
   return next;
 }
 
-// A group's stepping within a step, by body (dynamic bodies) or by group root.
-struct World::GroupStepping {
-  struct State {
-    geometry::Pose X_WB;
-    Eigen::Vector3d v, w;
-  };
-  std::vector<State> start;                       // each dynamic body at the step's start
-  std::vector<Eigen::AlignedBox3d> moved;         // each dynamic body's swept box over the step
-  std::vector<char> stepped;                      // by root: stepped on its own
-  std::vector<std::vector<Contact>> contacts_of;  // by root: its last solve, when stepped
-};
-
 void World::begin_step_memos() {
-  mesh_memo_.begin_step();
-  hints_.pending_bounces = std::move(next_bounces_);
-  next_bounces_.clear();
-  std::stable_sort(hints_.pending_bounces.begin(), hints_.pending_bounces.end(),
+  state_.mesh.begin_step();
+  state_.hints.pending_bounces = std::move(state_.held_back_bounces);
+  state_.held_back_bounces.clear();
+  std::stable_sort(state_.hints.pending_bounces.begin(), state_.hints.pending_bounces.end(),
                    [](const ContactHints::Bounce& x, const ContactHints::Bounce& y) { return x.bodies < y.bodies; });
 }
 
 World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report) {
   const int n = static_cast<int>(bodies_.size());
   FirstPass pass;
-  pass.resting = gather_contacts(bodies_, radius_m_, options_, hints_, mesh_memo_, pool_, everyone,
-                                 contacts_.size() + contacts_.size() / 4);
+  pass.resting = gather_contacts(bodies_, radius_m_, options_, state_.hints, state_.mesh, pool_, everyone,
+                                 state_.contacts.size() + state_.contacts.size() / 4);
   StepSolve first =
       solve_step(bodies_, radius_m_, options_, prepare_solve(bodies_, options_, dt_s, dt_s, everyone, pass.resting),
                  everyone, pass.resting, {}, &pass.islands);
@@ -236,11 +224,11 @@ void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<
       // Stepped before, merged since: start again from the step's start (and forget the
       // bounces that pass held back: this one finds its own).
       const auto in_group = [&](int i) { return bodies_[i].is_dynamic() && root(i) == r; };
-      next_bounces_.erase(std::remove_if(next_bounces_.begin(), next_bounces_.end(),
-                                         [&](const ContactHints::Bounce& p) {
-                                           return in_group(p.bodies.first) || in_group(p.bodies.second);
-                                         }),
-                          next_bounces_.end());
+      state_.held_back_bounces.erase(std::remove_if(state_.held_back_bounces.begin(), state_.held_back_bounces.end(),
+                                                    [&](const ContactHints::Bounce& p) {
+                                                      return in_group(p.bodies.first) || in_group(p.bodies.second);
+                                                    }),
+                                     state_.held_back_bounces.end());
       for (int i : bodies) {
         bodies_[i].X_WB = g.start[i].X_WB;
         bodies_[i].v_WBcm_m_s = g.start[i].v;
@@ -306,33 +294,34 @@ void World::keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic,
                                StepReport& report) {
   const auto root = [&](int i) { return pass.groups.find(i); };
   // The contacts of each group's last solve: the first solve's, unless stepped on its own.
-  contacts_.clear();
+  state_.contacts.clear();
   for (std::size_t k = 0; k < pass.resting.size(); ++k) {
     const Contact& c = pass.resting[k];
-    if (!g.stepped[root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b)]) contacts_.push_back(pass.solved[k]);
+    if (!g.stepped[root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b)])
+      state_.contacts.push_back(pass.solved[k]);
   }
   for (int i : dynamic)
     if (root(i) == i && g.stepped[i])
-      contacts_.insert(contacts_.end(), g.contacts_of[i].begin(), g.contacts_of[i].end());
-  report.contacts = static_cast<int>(contacts_.size());
-  hints_.pushed_before.clear();
-  for (const Contact& c : contacts_)
+      state_.contacts.insert(state_.contacts.end(), g.contacts_of[i].begin(), g.contacts_of[i].end());
+  report.contacts = static_cast<int>(state_.contacts.size());
+  state_.hints.pushed_before.clear();
+  for (const Contact& c : state_.contacts)
     if (c.impulse_N_s > 0)
-      hints_.pushed_before.push_back(
+      state_.hints.pushed_before.push_back(
           {{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature)});
-  std::sort(hints_.pushed_before.begin(), hints_.pushed_before.end(),
+  std::sort(state_.hints.pushed_before.begin(), state_.hints.pushed_before.end(),
             [](const ContactHints::Pushed& x, const ContactHints::Pushed& y) { return x.bodies < y.bodies; });
   // Kept only where a solve can use them: the iterative solver, an exact solver's island
   // too large for it (max_exact_rows), and the exact solver's friction sweeps. (Kept
   // always, they made a 100-box drop, where every island is small and exact, 10 % slower.)
-  hints_.warm_forces.clear();
+  state_.hints.warm_forces.clear();
   const bool iterative =
       options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
   for (const Contact& c : pass.solved)
     if (c.impulse_N_s > 0 && (iterative || combined_friction(bodies_[c.body_a], bodies_[c.body_b]) > 0))
-      hints_.warm_forces.push_back(
+      state_.hints.warm_forces.push_back(
           {{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature), c.impulse_W_N_s / dt_s});
-  std::sort(hints_.warm_forces.begin(), hints_.warm_forces.end(),
+  std::sort(state_.hints.warm_forces.begin(), state_.hints.warm_forces.end(),
             [](const ContactHints::Force& x, const ContactHints::Force& y) { return x.bodies < y.bodies; });
 }
 
@@ -343,7 +332,7 @@ StepReport World::step(double dt_s) {
   const int n = static_cast<int>(bodies_.size());
   std::vector<int> everyone(n), fixed, dynamic;
   std::iota(everyone.begin(), everyone.end(), 0);
-  set_kinematic_state(everyone, time_s_, dt_s);
+  set_kinematic_state(everyone, state_.time_s, dt_s);
   const std::vector<int> held = options_.sleep_after_s > 0 ? hold_sleepers(dt_s) : std::vector<int>();
   // (Should anything below throw, the sleepers are not left static.)
   struct Release {
@@ -372,11 +361,11 @@ StepReport World::step(double dt_s) {
   }
   keep_step_contacts(pass, dynamic, g, dt_s, report);
   if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
-  time_s_ += dt_s;
-  mesh_memo_.placed_since_step.assign(bodies_.size(), 0);
-  placed_to_wake_.assign(bodies_.size(), 0);
-  set_kinematic_state(everyone, time_s_, 0.0);
-  report.mesh_crossing_tests = mesh_memo_.crossing_tests;
+  state_.time_s += dt_s;
+  state_.mesh.placed_since_step.assign(bodies_.size(), 0);
+  state_.sleep.placed_to_wake.assign(bodies_.size(), 0);
+  set_kinematic_state(everyone, state_.time_s, 0.0);
+  report.mesh_crossing_tests = state_.mesh.crossing_tests;
   return report;
 }
 

@@ -37,13 +37,14 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
   bool cut_at_start = false;  // the last cut was at the start of its motion
   while (dt_s - elapsed > 1e-12 * dt_s) {
     double h = dt_s - elapsed;
-    set_kinematic_state(participants, time_s_ + elapsed, h);
+    set_kinematic_state(participants, state_.time_s + elapsed, h);
     // The poses do not change while a part is re-solved: its contacts are found once. The
     // step's first solve (all groups at once) is given, its contacts not copied (a whole
     // pile's are a megabyte).
     const bool at_start = elapsed == 0;
     std::vector<Contact> gathered;
-    if (!at_start) gathered = gather_contacts(bodies_, radius_m_, options_, hints_, mesh_memo_, pool_, participants, 0);
+    if (!at_start)
+      gathered = gather_contacts(bodies_, radius_m_, options_, state_.hints, state_.mesh, pool_, participants, 0);
     // Gravity and the gyroscopic term act once per step, over all of it, in its first
     // solve: the velocities are end-of-step velocities (symplectic Euler), and a cut
     // carries them on. (Applied again after each cut, bodies with many events fell at
@@ -74,13 +75,13 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // Answers valid while the start poses are these: the step's first sweep, then fresh
     // but for the pairs that go on as before the cut.
     ImpactCache fresh;
-    if (!at_start) fresh = carry_over_cut(participants, motion.u, motion.next, cut);
+    if (!at_start) fresh = carry_over_cut(bodies_, participants, motion.u, motion.next, cut);
     ImpactCache& cache = at_start ? first_ccd : fresh;
     resolve_rounds(participants, part, cache, cut_at_start, motion, outcome.contacts, report);
     if (motion.tau < 1.0) {
       // Still meeting (a turning body whose constraints were linearised): stop at the
       // impact, with the velocities of the step, and go on from there.
-      motion.tau = unswept_clear_fraction(participants, motion.next, cache, motion.tau, h);
+      motion.tau = unswept_clear_fraction(bodies_, options_, participants, motion.next, cache, motion.tau, h);
       h *= motion.tau;
       if (++events >= options_.max_events_per_step) outcome.capped = true;
       // A second cut at the start of what is left: nothing has moved since the last, the
@@ -166,7 +167,7 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
     // re-solve then discarded was a third of a tumbling pile's step).
     if (options_.project_deep_points && deepening && motion.tau >= 1.0 && !lifts_meet &&
         projections < kMaxProjectionsPerMotion &&
-        project_deep_points(participants, motion.next, meeting, cache, part.resting_pairs)) {
+        project_deep_points(bodies_, options_, participants, motion.next, meeting, cache, part.resting_pairs)) {
       lifted = true;
       ++report.projections;
       ++projections;
@@ -179,7 +180,8 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
       // at once would make it a cut of nothing, again and again (a 20-bunny scene froze
       // for a second): the bounce is then solved with the rest, and the crossing with it.
       const double cut_at =
-          deepening ? std::min(motion.tau, shallow_fraction(participants, motion.next, cache, meeting)) : motion.tau;
+          deepening ? std::min(motion.tau, shallow_fraction(bodies_, participants, motion.next, cache, meeting))
+                    : motion.tau;
       if (cut_at > 0) {
         motion.tau = cut_at;
         return;
@@ -195,7 +197,7 @@ void World::resolve_rounds(const std::vector<int>& participants, PartSolve& part
     // Asked only to stop digging in, and it cannot be had: keep the motion.
     if (motion.squeezed && motion.tau >= 1.0) return;
     std::vector<geometry::Pose> next_resolved = candidate_poses(participants, u_resolved, part.elapsed, part.h);
-    keep_motions(participants, motion.u, motion.next, u_resolved,
+    keep_motions(bodies_, participants, motion.u, motion.next, u_resolved,
                  next_resolved);  // (after a cut, the end poses kept there)
     motion.u = std::move(u_resolved);
     motion.next = std::move(next_resolved);
@@ -213,7 +215,7 @@ double World::last_round_fraction(const std::vector<int>& participants, const st
   // instead; the pair crosses by what this motion dips it and is pushed apart in the next
   // step (mesh_crossing_depth). With nothing tracked moving, waiting costs only time.
   if (!deepening) return tau;
-  const double shallow = shallow_fraction(participants, next, cache, meeting);
+  const double shallow = shallow_fraction(bodies_, participants, next, cache, meeting);
   const bool would_wait = shallow == 0 && cut_at_start;
   const auto tracked_moving = [&] {
     return std::any_of(participants.begin(), participants.end(), [&](int i) {
@@ -272,7 +274,7 @@ bool World::add_impact_points(const std::vector<int>& participants, const PartMo
       if (restitution >= options_.sequential_bounce_restitution) {
         chained = true;
       } else {
-        next_bounces_.push_back({pair, n, missed_bounce_m_s});
+        state_.held_back_bounces.push_back({pair, n, missed_bounce_m_s});
       }
     }
     impacts[pair].insert(impacts[pair].end(), hits.begin(), hits.end());

@@ -18,11 +18,11 @@ void World::wake(std::vector<int> woken) {
   while (!woken.empty()) {
     const int i = woken.back();
     woken.pop_back();
-    quiet_s_[i] = 0;
-    if (!asleep_[i]) continue;
-    asleep_[i] = 0;
-    for (int j : touching_[i])
-      if (asleep_[j]) woken.push_back(j);
+    state_.sleep.quiet_s[i] = 0;
+    if (!state_.sleep.asleep[i]) continue;
+    state_.sleep.asleep[i] = 0;
+    for (int j : state_.sleep.touching[i])
+      if (state_.sleep.asleep[j]) woken.push_back(j);
   }
 }
 
@@ -45,16 +45,16 @@ std::vector<int> World::hold_sleepers(double dt_s) {
   for (int i = 0; i < n; ++i) {
     const RigidBody& body = bodies_[i];
     const double speed_m_s = point_speed_m_s(i);
-    if (asleep_[i] && body.is_dynamic() && speed_m_s == 0) {
+    if (state_.sleep.asleep[i] && body.is_dynamic() && speed_m_s == 0) {
       sleepers.push_back(i);
       continue;
     }
-    if (asleep_[i]) woken.push_back(i);  // (a sleeper given a velocity from outside)
-    if (placed_to_wake_[i]) {
+    if (state_.sleep.asleep[i]) woken.push_back(i);  // (a sleeper given a velocity from outside)
+    if (state_.sleep.placed_to_wake[i]) {
       // Placed: it reaches what its new pose touches (a plane, everything).
       if (!std::isfinite(radius_m_[i])) {
         for (int j = 0; j < n; ++j)
-          if (asleep_[j]) woken.push_back(j);
+          if (state_.sleep.asleep[j]) woken.push_back(j);
       } else {
         reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
       }
@@ -65,9 +65,10 @@ std::vector<int> World::hold_sleepers(double dt_s) {
       reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + fall_m + tolerance);
   }
   // The sleepers a moving body reaches (bounding balls), and in turn those they touched.
-  for (const Contact& c : contacts_)  // (the last step's)
+  for (const Contact& c : state_.contacts)  // (the last step's)
     for (const auto& [awake, other] : {std::pair(c.body_a, c.body_b), std::pair(c.body_b, c.body_a)})
-      if (bodies_[awake].is_dynamic() && !asleep_[awake] && asleep_[other]) woken.push_back(other);
+      if (bodies_[awake].is_dynamic() && !state_.sleep.asleep[awake] && state_.sleep.asleep[other])
+        woken.push_back(other);
   if (!reaching.empty() && !sleepers.empty()) {
     std::vector<Eigen::AlignedBox3d> boxes;
     for (const auto& [i, reach_m] : reaching) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), reach_m));
@@ -77,7 +78,8 @@ std::vector<int> World::hold_sleepers(double dt_s) {
       if ((p < r) != (q < r)) woken.push_back(sleepers[std::max(p, q) - r]);
   }
   wake(std::move(woken));
-  sleepers.erase(std::remove_if(sleepers.begin(), sleepers.end(), [&](int i) { return !asleep_[i]; }), sleepers.end());
+  sleepers.erase(std::remove_if(sleepers.begin(), sleepers.end(), [&](int i) { return !state_.sleep.asleep[i]; }),
+                 sleepers.end());
   for (int i : sleepers) bodies_[i].motion = BodyMotion::kStatic;
   return sleepers;
 }
@@ -85,35 +87,36 @@ std::vector<int> World::hold_sleepers(double dt_s) {
 void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report) {
   for (int i : held) bodies_[i].motion = BodyMotion::kDynamic;
   const int n = static_cast<int>(bodies_.size());
-  const auto awake = [&](int i) { return bodies_[i].is_dynamic() && !asleep_[i]; };
+  const auto awake = [&](int i) { return bodies_[i].is_dynamic() && !state_.sleep.asleep[i]; };
   for (int i = 0; i < n; ++i) {
     if (!awake(i)) continue;
     // (Counted in steps' worth of time: fifty 10 ms steps add up to just under 0.5 s.)
-    quiet_s_[i] = point_speed_m_s(i) < options_.sleep_speed_m_s ? quiet_s_[i] + dt_s * (1 + 1e-9) : 0.0;
+    state_.sleep.quiet_s[i] =
+        point_speed_m_s(i) < options_.sleep_speed_m_s ? state_.sleep.quiet_s[i] + dt_s * (1 + 1e-9) : 0.0;
   }
   // Bodies in contact fall asleep together, once the last of them has been quiet long
   // enough: a body asleep against an awake one would be woken by it at once.
   DisjointSets islands(n);
-  for (const Contact& c : contacts_)
+  for (const Contact& c : state_.contacts)
     if (awake(c.body_a) && awake(c.body_b)) islands.join(c.body_a, c.body_b);
   std::vector<double> least_quiet_s(n, std::numeric_limits<double>::infinity());
   for (int i = 0; i < n; ++i)
-    if (awake(i)) least_quiet_s[islands.find(i)] = std::min(least_quiet_s[islands.find(i)], quiet_s_[i]);
+    if (awake(i)) least_quiet_s[islands.find(i)] = std::min(least_quiet_s[islands.find(i)], state_.sleep.quiet_s[i]);
   std::vector<char> falling_asleep(n, 0);
   for (int i = 0; i < n; ++i) {
     if (!awake(i) || least_quiet_s[islands.find(i)] < options_.sleep_after_s) continue;
     falling_asleep[i] = 1;
     bodies_[i].v_WBcm_m_s.setZero();
     bodies_[i].w_WB_rad_s.setZero();
-    touching_[i].clear();
+    state_.sleep.touching[i].clear();
   }
-  for (const Contact& c : contacts_) {
+  for (const Contact& c : state_.contacts) {
     if (!bodies_[c.body_a].is_dynamic() || !bodies_[c.body_b].is_dynamic()) continue;
-    if (falling_asleep[c.body_a]) touching_[c.body_a].push_back(c.body_b);
-    if (falling_asleep[c.body_b]) touching_[c.body_b].push_back(c.body_a);
+    if (falling_asleep[c.body_a]) state_.sleep.touching[c.body_a].push_back(c.body_b);
+    if (falling_asleep[c.body_b]) state_.sleep.touching[c.body_b].push_back(c.body_a);
   }
-  for (int i = 0; i < n; ++i) asleep_[i] |= falling_asleep[i];
-  report.bodies_asleep = static_cast<int>(std::count(asleep_.begin(), asleep_.end(), 1));
+  for (int i = 0; i < n; ++i) state_.sleep.asleep[i] |= falling_asleep[i];
+  report.bodies_asleep = static_cast<int>(std::count(state_.sleep.asleep.begin(), state_.sleep.asleep.end(), 1));
 }
 
 }  // namespace arphys::dynamics

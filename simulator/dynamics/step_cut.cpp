@@ -1,7 +1,7 @@
 // After a sweep: the lift of resting points left too deep (moving end poses), where a step
 // must be cut so that no unswept pair is left deep, and what a cut carries over. The stage
 // before: the sweep (step_sweep.hpp).
-#include "simulator/dynamics/world.hpp"
+#include "simulator/dynamics/step_cut.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -33,43 +33,58 @@ constexpr int kProjectionSweeps = 50;
 // pairs found too deep with the rest.
 constexpr int kProjectionRounds = 8;
 
+// `fraction` of the pair's motions, halved (at most max_halvings times) until the pair
+// overlaps there by no more than allowed_depth_m(fraction).
+double halved_until_within(const std::vector<RigidBody>& bodies, const BodyPair& pair,
+                           const geometry::ScrewMotion& motion_a, const geometry::ScrewMotion& motion_b,
+                           double fraction, int max_halvings, const std::function<double(double)>& allowed_depth_m) {
+  for (int halving = 0; halving < max_halvings; ++halving) {
+    const double depth_m = deepest_overlap(bodies[pair.first], motion_a.pose_at(fraction), bodies[pair.second],
+                                           motion_b.pose_at(fraction));
+    if (depth_m <= allowed_depth_m(fraction)) break;
+    fraction *= 0.5;
+  }
+  return fraction;
+}
+
 }  // namespace
 
-bool World::project_deep_points(const std::vector<int>& participants, std::vector<geometry::Pose>& next,
-                                const ImpactMap& meeting, const ImpactCache& cache,
-                                const std::vector<std::pair<int, int>>& resting_pairs) const {
+bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOptions& options,
+                         const std::vector<int>& participants, std::vector<geometry::Pose>& next,
+                         const ImpactMap& meeting, const ImpactCache& cache,
+                         const std::vector<BodyPair>& resting_pairs) {
   // The pairs to lift: those ending too deep. A CCD meeting's points (end_depth_m < 0) are
   // an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
   // left to it too (its depth is not measured), and then so is everything.
-  std::set<std::pair<int, int>> lifted;
+  std::set<BodyPair> lifted;
   for (const auto& [pair, hits] : meeting) {
     if (std::none_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; })) continue;
-    if (!depth_measured(bodies_[pair.first], bodies_[pair.second]) || !cache.count(pair)) return false;
+    if (!depth_measured(bodies[pair.first], bodies[pair.second]) || !cache.count(pair)) return false;
     lifted.insert(pair);
   }
   if (lifted.empty()) return false;
-  const double tolerance = options_.overlap_tolerance_m;
+  const double tolerance = options.overlap_tolerance_m;
   // How deep a pair may end: as the end check allows, the deeper of the tolerance and a
   // tenth of it over the pair's start depth (measured here, once, for a pair the check
   // skipped: one that barely moved; the start poses do not change between rounds).
-  std::map<std::pair<int, int>, double> allowed_unchecked;
-  const auto allowed_depth = [&](const std::pair<int, int>& pair) {
+  std::map<BodyPair, double> allowed_unchecked;
+  const auto allowed_depth = [&](const BodyPair& pair) {
     const auto it = cache.find(pair);
     if (it != cache.end() && it->second.allowed_depth_m > 0) return it->second.allowed_depth_m;
     const auto [known, fresh] = allowed_unchecked.try_emplace(pair, 0.0);
     if (fresh) {
-      const double start_depth = deepest_overlap(bodies_[pair.first], bodies_[pair.first].X_WB, bodies_[pair.second],
-                                                 bodies_[pair.second].X_WB);
+      const double start_depth =
+          deepest_overlap(bodies[pair.first], bodies[pair.first].X_WB, bodies[pair.second], bodies[pair.second].X_WB);
       known->second = std::max(start_depth + 0.1 * tolerance, tolerance);
     }
     return known->second;
   };
   std::vector<ProjectedBody> moved;
-  std::vector<int> slot_of_moved;                       // participant slot of each projected body
-  std::vector<int> index(bodies_.size(), -1);           // body -> index in moved
+  std::vector<int> slot_of_moved;             // participant slot of each projected body
+  std::vector<int> index(bodies.size(), -1);  // body -> index in moved
   const auto body_index = [&](int body) {
     if (index[body] < 0) {
-      const RigidBody& b = bodies_[body];
+      const RigidBody& b = bodies[body];
       const int slot = slot_of(participants, body);
       ProjectedBody projected;
       projected.X_WB = next[slot];  // (a non-dynamic body's end pose, which it keeps)
@@ -93,8 +108,8 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
   for (int round = 0; round < kProjectionRounds; ++round) {
     std::vector<ProjectedPoint> points;
     for (const auto& pair : lifted) {
-      const RigidBody& a = bodies_[pair.first];
-      const RigidBody& b = bodies_[pair.second];
+      const RigidBody& a = bodies[pair.first];
+      const RigidBody& b = bodies[pair.second];
       const geometry::Pose X_A = pose_of(pair.first), X_B = pose_of(pair.second);
       const double allowed = allowed_depth(pair);
       const double target = allowed - 0.5 * tolerance;
@@ -107,17 +122,17 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
     // Every resting pair of a body the lifts moved, measured at the lifted poses. (Which
     // bodies moved is settled once per round: the group's resting pairs are thousands in
     // a pile, and a pose comparison per pair was most of a lift's own time.)
-    std::vector<char> lifted_body(bodies_.size(), 0);
+    std::vector<char> lifted_body(bodies.size(), 0);
     for (std::size_t k = 0; k < moved.size(); ++k)
       if (moved[k].X_WB.matrix() != next[slot_of_moved[k]].matrix()) lifted_body[participants[slot_of_moved[k]]] = 1;
     bool settled = true;
     for (const auto& pair : resting_pairs) {
       if (!(lifted_body[pair.first] || lifted_body[pair.second]) ||
-          !depth_measured(bodies_[pair.first], bodies_[pair.second]))
+          !depth_measured(bodies[pair.first], bodies[pair.second]))
         continue;
       const double allowed = allowed_depth(pair);
-      for (const auto& f : collision::contact_manifold(bodies_[pair.first].shape, pose_of(pair.first),
-                                                       bodies_[pair.second].shape, pose_of(pair.second), 0.0))
+      for (const auto& f : collision::contact_manifold(bodies[pair.first].shape, pose_of(pair.first),
+                                                       bodies[pair.second].shape, pose_of(pair.second), 0.0))
         if (-f.distance_m > allowed) {
           settled = false;
           lifted.insert(pair);
@@ -133,47 +148,38 @@ bool World::project_deep_points(const std::vector<int>& participants, std::vecto
   return false;
 }
 
-double World::unswept_clear_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                                     const ImpactCache& cache, double tau, double h_s) const {
+double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldOptions& options,
+                              const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                              const ImpactCache& cache, double tau, double h_s) {
   // (The group's pairs only: at the step's start the cache holds every group's.)
   for (int p = 0; p < static_cast<int>(participants.size()) && tau > 0; ++p)
-    for (auto it = cache.lower_bound({participants[p], -1}); it != cache.end() && it->first.first == participants[p]; ++it) {
+    for (auto it = cache.lower_bound({participants[p], -1}); it != cache.end() && it->first.first == participants[p];
+         ++it) {
       const auto& [pair, query] = *it;
-      if (!query.valid || query.swept || !depth_measured(bodies_[pair.first], bodies_[pair.second])) continue;
+      if (!query.valid || query.swept || !depth_measured(bodies[pair.first], bodies[pair.second])) continue;
       const int q = slot_of(participants, pair.second);
       if (q < 0) continue;  // another group's pair
       if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
-      const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
+      const geometry::ScrewMotion motion_a(bodies[pair.first].X_WB, next[p]),
+          motion_b(bodies[pair.second].X_WB, next[q]);
       // (Twelve halvings: a pair that moved a centimetre is then within 3 um of its start.)
       const double allowed_m = query.allowed_depth_m;
-      tau = halved_until_within(pair, motion_a, motion_b, tau, 12, [&](double fraction) {
+      tau = halved_until_within(bodies, pair, motion_a, motion_b, tau, 12, [&](double fraction) {
         // What the rest of the step undoes (at half the depenetration speed) may be left:
         // halving to the end check's micrometre made cut after cut, to the event cap.
-        return std::max(allowed_m, 0.5 * options_.max_depenetration_speed_m_s * h_s * (1 - fraction));
+        return std::max(allowed_m, 0.5 * options.max_depenetration_speed_m_s * h_s * (1 - fraction));
       });
     }
   return tau;
 }
 
-double World::halved_until_within(const std::pair<int, int>& pair, const geometry::ScrewMotion& motion_a,
-                                  const geometry::ScrewMotion& motion_b, double fraction, int max_halvings,
-                                  const std::function<double(double)>& allowed_depth_m) const {
-  for (int halving = 0; halving < max_halvings; ++halving) {
-    const double depth_m = deepest_overlap(bodies_[pair.first], motion_a.pose_at(fraction), bodies_[pair.second],
-                                           motion_b.pose_at(fraction));
-    if (depth_m <= allowed_depth_m(fraction)) break;
-    fraction *= 0.5;
-  }
-  return fraction;
-}
-
-double World::shallow_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                               const ImpactCache& cache, const ImpactMap& meeting) const {
+double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
+                        const std::vector<geometry::Pose>& next, const ImpactCache& cache, const ImpactMap& meeting) {
   double fraction = 1.0;
   // (In the pairs' order, as the cache holds them: each pair halves from where the last
   // one left the fraction.)
   for (const auto& entry : meeting) {
-    const std::pair<int, int>& pair = entry.first;
+    const BodyPair& pair = entry.first;
     const auto found = cache.find(pair);
     if (found == cache.end()) continue;
     const CachedImpact& query = found->second;
@@ -185,21 +191,24 @@ double World::shallow_fraction(const std::vector<int>& participants, const std::
       fraction = std::min(fraction, query.free_until);  // a mesh pair: where its surfaces last did not cross
       continue;
     }
-    const geometry::ScrewMotion motion_a(bodies_[pair.first].X_WB, next[p]), motion_b(bodies_[pair.second].X_WB, next[q]);
-    fraction = halved_until_within(pair, motion_a, motion_b, fraction, 6, [&](double) { return query.allowed_depth_m; });
+    const geometry::ScrewMotion motion_a(bodies[pair.first].X_WB, next[p]), motion_b(bodies[pair.second].X_WB, next[q]);
+    fraction = halved_until_within(bodies, pair, motion_a, motion_b, fraction, 6,
+                                   [&](double) { return query.allowed_depth_m; });
   }
   return fraction;
 }
 
-std::vector<char> World::keep_motions(const std::vector<int>& participants, const std::vector<BodyVelocity>& u_before,
-                                      const std::vector<geometry::Pose>& next_before,
-                                      const std::vector<BodyVelocity>& u, std::vector<geometry::Pose>& next) const {
+std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
+                               const std::vector<BodyVelocity>& u_before,
+                               const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
+                               std::vector<geometry::Pose>& next) {
   std::vector<char> kept(participants.size(), 0);
   for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = bodies_[participants[s]];
+    const RigidBody& body = bodies[participants[s]];
     if (body.motion == BodyMotion::kStatic) {
       kept[s] = 1;
-    } else if (body.is_dynamic() && u[s].v_WBcm_m_s == u_before[s].v_WBcm_m_s && u[s].w_WB_rad_s == u_before[s].w_WB_rad_s) {
+    } else if (body.is_dynamic() && u[s].v_WBcm_m_s == u_before[s].v_WBcm_m_s &&
+               u[s].w_WB_rad_s == u_before[s].w_WB_rad_s) {
       // Exactly: a pair a thousandth of the overlap tolerance too deep is corrected by a
       // velocity change of that size (keeping motions that changed by less than 1 nm, such
       // pairs stayed deep round after round: the 100-bunny spawn took 1.9 s per step).
@@ -210,15 +219,15 @@ std::vector<char> World::keep_motions(const std::vector<int>& participants, cons
   return kept;
 }
 
-ImpactCache World::carry_over_cut(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
-                                  std::vector<geometry::Pose>& next, Cut& cut) const {
+ImpactCache carry_over_cut(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
+                           const std::vector<BodyVelocity>& u, std::vector<geometry::Pose>& next, Cut& cut) {
   // A dynamic body the solve after a cut left as it was goes on along the same screw
   // motion (integrate's constant twist): its end pose is the one before the cut, and a
   // pair of such bodies (or of one and a static body) moves over the rest of the step
   // as it did over that part of the motion. Its CCD answer carries over, its time
   // rescaled. (Queried afresh after every cut, a spawn of 100 bunnies made 8,000 mesh
   // queries per step.)
-  const std::vector<char> goes_on = keep_motions(participants, cut.u, cut.next, u, next);
+  const std::vector<char> goes_on = keep_motions(bodies, participants, cut.u, cut.next, u, next);
   for (auto it = cut.answers.begin(); it != cut.answers.end();) {
     const int a = slot_of(participants, it->first.first), b = slot_of(participants, it->first.second);
     CachedImpact& query = it->second;
