@@ -189,6 +189,28 @@ void finish_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>&
   query.deepens = !query.hits.empty() || query.free_until < 1;
 }
 
+// How far each participant's points can move over its motion to `next`: its origin's
+// displacement (shift), its rotation angle times its radius about the origin (turn), and
+// how far the origin strays, on its screw, from moving along its shift uniformly (curve:
+// the arc's sagitta and its uneven pace along the chord are both below it).
+struct MotionReach {
+  std::vector<Eigen::Vector3d> shift;
+  std::vector<double> turn, curve;
+};
+MotionReach motion_reach(const SweepWorld& w, const std::vector<int>& participants,
+                         const std::vector<geometry::Pose>& next) {
+  MotionReach out{std::vector<Eigen::Vector3d>(participants.size()), std::vector<double>(participants.size()),
+                  std::vector<double>(participants.size())};
+  for (std::size_t s = 0; s < participants.size(); ++s) {
+    const RigidBody& body = w.bodies[participants[s]];
+    out.shift[s] = next[s].translation() - body.X_WB.translation();
+    const double angle = Eigen::AngleAxisd(next[s].linear() * body.X_WB.linear().transpose()).angle();
+    out.turn[s] = angle > 0 ? angle * w.radius_m[participants[s]] : 0.0;
+    out.curve[s] = angle > 0 ? angle * out.shift[s].norm() : 0.0;
+  }
+  return out;
+}
+
 }  // namespace
 
 Eigen::AlignedBox3d swept_box(const RigidBody& body, double radius_m, const geometry::Pose& next) {
@@ -237,19 +259,9 @@ Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, c
       swept.push_back(swept_box(w.bodies[participants[s]], w.radius_m[participants[s]], next[s]));
     own = collision::overlapping_pairs(swept);
   }
-  // How far each body's points can move over the step: its origin's displacement and
-  // its rotation angle times its radius about the origin.
-  std::vector<Eigen::Vector3d> shift(participants.size());
-  std::vector<double> turn(participants.size()), curve(participants.size());
-  for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = w.bodies[participants[s]];
-    shift[s] = next[s].translation() - body.X_WB.translation();
-    const double angle = Eigen::AngleAxisd(next[s].linear() * body.X_WB.linear().transpose()).angle();
-    turn[s] = angle > 0 ? angle * w.radius_m[participants[s]] : 0.0;
-    // On its screw the origin strays from moving along its shift uniformly by less than
-    // this (the arc's sagitta, and its uneven pace along the chord, are both below it).
-    curve[s] = angle > 0 ? angle * shift[s].norm() : 0.0;
-  }
+  const MotionReach reach = motion_reach(w, participants, next);
+  const std::vector<Eigen::Vector3d>& shift = reach.shift;
+  const std::vector<double>&turn = reach.turn, &curve = reach.curve;
   // Each participant's screw motion, built when a pair first needs it (a body in a pile is
   // in a dozen pairs).
   std::vector<std::optional<geometry::ScrewMotion>> motions(participants.size());

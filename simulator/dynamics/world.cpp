@@ -29,10 +29,6 @@ using world_internal::row_point;
 
 namespace {
 
-// A body's pose after moving its centre of mass with v and turning with w for h.
-geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h) {
-  return moved_about_com(body.X_WB, body.mass.center_of_mass_m, u.v_WBcm_m_s * h, u.w_WB_rad_s, u.w_WB_rad_s.norm() * h);
-}
 
 }  // namespace
 
@@ -139,22 +135,6 @@ void World::set_kinematic_state(const std::vector<int>& participants, double t_s
   }
 }
 
-std::vector<geometry::Pose> World::candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
-                                                   double elapsed, double h) const {
-  std::vector<geometry::Pose> next(participants.size());
-  for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = bodies_[participants[s]];
-    if (body.is_dynamic()) {
-      next[s] = integrate(body, u[s], h);
-    } else if (body.motion == BodyMotion::kKinematic && !body.trajectory.empty()) {
-      next[s] = body.trajectory.pose_at(state_.time_s + elapsed + h);
-    } else {
-      next[s] = body.X_WB;
-    }
-  }
-  return next;
-}
-
 void World::begin_step_memos() {
   state_.mesh.begin_step();
   state_.hints.pending_bounces = std::move(state_.held_back_bounces);
@@ -174,7 +154,7 @@ World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone
   tally(first, report);
   pass.u = std::move(first.u);
   pass.solved = std::move(first.solved);
-  pass.next = candidate_poses(everyone, pass.u, 0, dt_s);
+  pass.next = candidate_poses(bodies_, everyone, pass.u, state_.time_s, dt_s);
   // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the
   // step; bodies of different groups cannot, so each group is stepped on its own, its
   // events cutting only its own step and re-running only its own CCD. (Stepping them all

@@ -14,8 +14,10 @@
 #include "simulator/dynamics/contact.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
 #include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/step_commit.hpp"
 #include "simulator/dynamics/step_contacts.hpp"
 #include "simulator/dynamics/step_cut.hpp"
+#include "simulator/dynamics/step_rounds.hpp"
 #include "simulator/dynamics/step_solve.hpp"
 #include "simulator/dynamics/step_sweep.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
@@ -65,8 +67,6 @@ class World {
   struct FirstSolve;
   struct GroupOutcome;
   struct FirstPass;
-  struct PartSolve;
-  struct PartMotion;
   struct GroupStepping;
   FirstPass first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report);
   // Clears the memos of the last step and takes up the bounces it held back.
@@ -86,32 +86,12 @@ class World {
   // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                              ImpactCache& first_ccd, StepReport& report);
-  // Rounds of CCD and re-solve of a part's motion, each meeting a constraint of the next
-  // solve, until nothing meets inside it (tau 1) or it must be cut (tau < 1). `contacts`:
-  // the last solve's; cut_at_start: the last cut was at the start of its motion.
-  void resolve_rounds(const std::vector<int>& participants, PartSolve& part, ImpactCache& cache, bool cut_at_start,
-                      PartMotion& motion, std::vector<Contact>& contacts, StepReport& report);
-  // Where the last round stops a motion that still meets or digs in (tau: the earliest
-  // meeting; deepening: a touching pair ends too deep).
-  double last_round_fraction(const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
-                             const ImpactCache& cache, const ImpactMap& meeting, double tau, bool deepening,
-                             bool cut_at_start) const;
-  // Adds the meetings' points to `impacts`, each with the normal velocity that lifts it out
-  // of where the motion leaves it; a bounce the solve brought about below
-  // sequential_bounce_restitution is held back to the next step (state_.held_back_bounces). True when
-  // one is to be met in turn (the part is cut at it).
   bool add_impact_points(const std::vector<int>& participants, const PartMotion& motion, const PartSolve& part,
                          ImpactMap& meeting, ImpactMap& impacts);
-  // Moves the group's dynamic bodies along the part's motion to its fraction tau (a body
-  // a numerical failure made non-finite stays where it was, at rest).
-  void commit_part(const std::vector<int>& participants, const PartMotion& motion, GroupOutcome& outcome,
-                   StepReport& report);
-  // Where the participants would be after h from now (elapsed into the step) with
-  // velocities u (by participant).
-  std::vector<geometry::Pose> candidate_poses(const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
-                                              double elapsed, double h) const;
   // What the sweep stage reads of this world.
   SweepWorld sweep_world() { return {bodies_, radius_m_, options_, state_.mesh, pool_}; }
+  // What a part's rounds read and write of this world.
+  RoundsWorld rounds_world() { return {sweep_world(), state_.time_s, state_.held_back_bounces}; }
   // Kinematic participants to their trajectory pose at t_s, moving as they will over
   // the next h_s (h_s = 0: their instantaneous twist).
   void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);

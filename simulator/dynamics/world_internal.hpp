@@ -49,26 +49,6 @@ struct World::FirstPass {
   std::set<int> eventful;  // roots of the groups whose CCD met something or ended too deep
 };
 
-// What every solve of one part of a group's step shares (a part: from the step's start or
-// a cut to the step's end or the next cut): the time left, the time its force acts over,
-// the resting contacts at its start poses and the islands solved there.
-struct World::PartSolve {
-  double elapsed = 0, h = 0, force_h = 0;
-  const std::vector<Contact>& resting;
-  std::vector<std::pair<int, int>> resting_pairs;
-  SolvedIslands& islands;
-  std::optional<SolveSetup> setup;  // built when a solve needs it
-};
-
-// A part's motion: velocities and end poses by participant, and the fraction of it taken
-// (1: to the end of the step; less: cut at a time of impact).
-struct World::PartMotion {
-  std::vector<BodyVelocity> u;
-  std::vector<geometry::Pose> next;
-  double tau = 1;
-  bool squeezed = false;  // the last solve could not keep a body out of fixed ones
-};
-
 // A group's stepping within a step, by body (dynamic bodies) or by group root.
 struct World::GroupStepping {
   struct State {
