@@ -21,10 +21,8 @@ Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3
   // Implicit midpoint on I (w' - w) + h m x I m = 0, m = (w + w') / 2, by Newton from
   // w' = w: with the inertia held over the step it keeps the kinetic energy and the
   // angular momentum's size (both quadratic invariants). The explicit step
-  // w' = w - h I^-1 (w x I w) gains energy: a box spinning at 30 rad/s near its
-  // intermediate axis reached 320 rad/s in 5 s at h = 10 ms, and bunnies tumbling off the
-  // table fell twice as fast as free fall. (Backward Euler, one Newton step, is stable
-  // but lost half the angular momentum over the same 5 s.)
+  // w' = w - h I^-1 (w x I w) gains energy (a spin near the intermediate axis runs away);
+  // backward Euler is stable but loses angular momentum (docs/decisions/0011).
   auto skew = [](const Eigen::Vector3d& a) {
     Eigen::Matrix3d S;
     S << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;

@@ -292,8 +292,8 @@ void World::keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic,
   std::sort(state_.hints.pushed_before.begin(), state_.hints.pushed_before.end(),
             [](const ContactHints::Pushed& x, const ContactHints::Pushed& y) { return x.bodies < y.bodies; });
   // Kept only where a solve can use them: the iterative solver, an exact solver's island
-  // too large for it (max_exact_rows), and the exact solver's friction sweeps. (Kept
-  // always, they made a 100-box drop, where every island is small and exact, 10 % slower.)
+  // too large for it (max_exact_rows), and the exact solver's friction sweeps (kept for
+  // every contact, they cost a frictionless pile's small exact islands time for nothing).
   state_.hints.warm_forces.clear();
   const bool iterative =
       options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;

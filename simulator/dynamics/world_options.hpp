@@ -17,9 +17,8 @@ struct WorldOptions {
   // its motion instead of swept by the CCD (sweep_motions, step_sweep.hpp). Capped per pair at a
   // quarter of the thinner body's thickness, so nothing passes through anything unswept;
   // pairs with a mesh (whose thinnest part is not known) or with restitution (what the
-  // end check finds is held, not bounced) keep to contact_tolerance_m. Most of a settling
-  // 1000-box pile's time was the CCD of such pairs and the cuts it found (10 mm: a third
-  // of the time of 1 mm over the anchor's 2 s; docs/dynamics.md).
+  // end check finds is held, not bounced) keep to contact_tolerance_m. (The CCD of such
+  // pairs, surfaces a gap apart, and the cuts it finds are most of a settling pile's cost.)
   double resting_unswept_motion_m = 10e-3;
   // No pair ends a step deeper inside each other than this, or than it started the
   // step (a tracked body pushed into a virtual one is undone at
@@ -47,7 +46,7 @@ struct WorldOptions {
   // instead of by a velocity constraint and another solve of the step. False: every
   // such point is a constraint of a re-solve (docs/decisions/0004).
   bool project_deep_points = true;
-  // Launch guard (see World::solve and StepReport::launches_prevented): speed (of a
+  // Launch guard (guard_launches, step_solve.hpp): speed (of a
   // body's kinetic energy) a solve may add beyond twice the fastest body it couples and
   // the depenetration speed.
   double launch_guard_slack_m_s = 0.5;
@@ -74,9 +73,9 @@ struct WorldOptions {
   collision::ContinuousOptions ccd = [] {
     collision::ContinuousOptions o;
     // A time of impact to a millionth of the step (a nanosecond at 1 ms) is never late
-    // and early by less than the motion over that time; the CCD library's default
-    // (1e-9, for measuring it) made near-parallel edges of resting boxes take 40 % more
-    // of a 1000-box pile's time for no difference a simulation can show.
+    // and early by less than the motion over that time; the CCD library's default (1e-9,
+    // for measuring it) costs near-parallel edges of resting boxes many more iterations
+    // for no difference a simulation can show.
     o.time_tolerance = 1e-6;
     o.max_triangle_pairs = 2000;
     o.max_search_nodes = 200000;
