@@ -182,6 +182,10 @@ std::vector<Contact> gather_contacts(const std::vector<RigidBody>& bodies, const
                                      const WorldOptions& options, const ContactHints& hints, MeshCrossingMemo& memo,
                                      const WorkerPool& pool, const std::vector<int>& participants,
                                      std::size_t expected) {
+  world_internal::require_participants("gather_contacts", participants, bodies.size());
+  world_internal::require_size("gather_contacts", "radius_m", radius_m.size(), bodies.size());
+  world_internal::require_size("gather_contacts", "memo.placed_since_step", memo.placed_since_step.size(),
+                               bodies.size());
   const double tolerance = options.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(participants.size());

@@ -53,6 +53,7 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
                          const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                          const ImpactMap& meeting, const ImpactCache& cache,
                          const std::vector<BodyPair>& resting_pairs) {
+  world_internal::require_size("project_deep_points", "next", next.size(), participants.size());
   // The pairs to lift: those ending too deep. A CCD meeting's points (end_depth_m < 0) are
   // an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
   // left to it too (its depth is not measured), and then so is everything.
@@ -151,6 +152,7 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
 double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldOptions& options,
                               const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const ImpactCache& cache, double tau, double h_s) {
+  world_internal::require_size("unswept_clear_fraction", "next", next.size(), participants.size());
   // (The group's pairs only: at the step's start the cache holds every group's.)
   for (int p = 0; p < static_cast<int>(participants.size()) && tau > 0; ++p)
     for (auto it = cache.lower_bound({participants[p], -1}); it != cache.end() && it->first.first == participants[p];
@@ -175,6 +177,7 @@ double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldO
 
 double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
                         const std::vector<geometry::Pose>& next, const ImpactCache& cache, const ImpactMap& meeting) {
+  world_internal::require_size("shallow_fraction", "next", next.size(), participants.size());
   double fraction = 1.0;
   // (In the pairs' order, as the cache holds them: each pair halves from where the last
   // one left the fraction.)
@@ -202,6 +205,10 @@ std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::
                                const std::vector<BodyVelocity>& u_before,
                                const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
                                std::vector<geometry::Pose>& next) {
+  world_internal::require_size("keep_motions", "u_before", u_before.size(), participants.size());
+  world_internal::require_size("keep_motions", "next_before", next_before.size(), participants.size());
+  world_internal::require_size("keep_motions", "u", u.size(), participants.size());
+  world_internal::require_size("keep_motions", "next", next.size(), participants.size());
   std::vector<char> kept(participants.size(), 0);
   for (std::size_t s = 0; s < participants.size(); ++s) {
     const RigidBody& body = bodies[participants[s]];

@@ -251,6 +251,9 @@ double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, con
 Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                     const std::vector<BodyPair>* resting_pairs, ImpactCache* cache, ImpactMap* meeting,
                     const std::vector<BodyPair>* swept_pairs) {
+  world_internal::require_participants("sweep_motions", participants, w.bodies.size());
+  world_internal::require_size("sweep_motions", "radius_m", w.radius_m.size(), w.bodies.size());
+  world_internal::require_size("sweep_motions", "next", next.size(), participants.size());
   std::vector<std::pair<int, int>> own;
   if (!swept_pairs) {
     std::vector<Eigen::AlignedBox3d> swept;

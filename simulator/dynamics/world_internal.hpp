@@ -11,6 +11,8 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "simulator/collision/continuous_query.hpp"
@@ -64,6 +66,25 @@ struct World::GroupStepping {
 }  // namespace arphys::dynamics
 
 namespace arphys::dynamics::world_internal {
+
+// A stage's precondition on the size of one of its inputs: std::invalid_argument naming the
+// stage, the input, its size and the size expected.
+inline void require_size(const char* stage, const char* input, std::size_t size, std::size_t expected) {
+  if (size != expected)
+    throw std::invalid_argument(std::string(stage) + ": " + input + " has " + std::to_string(size) +
+                                " entries, expected " + std::to_string(expected));
+}
+
+// A stage's participants: body indices, increasing, each below n_bodies (std::invalid_argument
+// naming the stage and the first that is not).
+inline void require_participants(const char* stage, const std::vector<int>& participants, std::size_t n_bodies) {
+  for (std::size_t s = 0; s < participants.size(); ++s)
+    if (participants[s] < 0 || static_cast<std::size_t>(participants[s]) >= n_bodies ||
+        (s > 0 && participants[s] <= participants[s - 1]))
+      throw std::invalid_argument(std::string(stage) + ": participant " + std::to_string(s) + " is body " +
+                                  std::to_string(participants[s]) + ", expected increasing indices below " +
+                                  std::to_string(n_bodies));
+}
 
 // The axis-aligned box of the ball about `centre` (all of space for an unbounded body).
 inline Eigen::AlignedBox3d ball_bounds(const Eigen::Vector3d& centre, double radius) {

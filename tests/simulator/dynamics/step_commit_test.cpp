@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "tests/simulator/dynamics/test_bodies.hpp"
@@ -37,6 +40,41 @@ TEST(StepCommit, BodiesEndTheFractionOfTheirScrewTheyTookAndANumericalFailureSta
   EXPECT_EQ(bodies[2].X_WB.translation(), Eigen::Vector3d(1, 0, 1));
   EXPECT_TRUE(bodies[2].v_WBcm_m_s.isZero());
   EXPECT_TRUE(swept[0].isEmpty());  // the floor does not move
+}
+
+}  // namespace
+}  // namespace arphys::dynamics
+
+namespace arphys::dynamics {
+namespace {
+
+// A stage given inputs that do not fit its participants refuses them, naming the stage and
+// the input, before it reads past the end of anything.
+TEST(StepContracts, StagesRefuseInputsThatDoNotFitTheirParticipants) {
+  std::vector<RigidBody> bodies = {testing::plane_body(), testing::cube("a", {0, 0, 1})};
+  const std::vector<double> radius_m = {bodies[0].bounding_radius_m(), bodies[1].bounding_radius_m()};
+  const auto message = [](const std::function<void()>& call) {
+    try {
+      call();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no exception");
+  };
+  std::vector<Eigen::AlignedBox3d> swept(2);
+  EXPECT_EQ(message([&] {
+              commit_motion(bodies, radius_m, {0, 1}, std::vector<BodyVelocity>(1), {bodies[0].X_WB, bodies[1].X_WB},
+                            1.0, swept);
+            }),
+            "commit_motion: u has 1 entries, expected 2");
+  EXPECT_EQ(message([&] {
+              candidate_poses(bodies, {1, 0}, std::vector<BodyVelocity>(2), 0.0, 0.01);
+            }),
+            "candidate_poses: participant 1 is body 0, expected increasing indices below 2");
+  EXPECT_EQ(message([&] {
+              candidate_poses(bodies, {0, 2}, std::vector<BodyVelocity>(2), 0.0, 0.01);
+            }),
+            "candidate_poses: participant 1 is body 2, expected increasing indices below 2");
 }
 
 }  // namespace

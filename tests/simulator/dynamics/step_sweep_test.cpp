@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <vector>
 
 #include "tests/simulator/dynamics/test_bodies.hpp"
@@ -78,6 +79,23 @@ TEST(StepSweep, RestingPairsGoUnsweptUpToAQuarterOfTheThinnerBodyOrTheContactTol
   RigidBody bouncy = a;
   bouncy.restitution = 0.4;  // what the end check finds is held, not bounced
   EXPECT_DOUBLE_EQ(max_unswept_motion_m(options, bouncy, a), options.contact_tolerance_m);
+}
+
+}  // namespace
+}  // namespace arphys::dynamics
+
+namespace arphys::dynamics {
+namespace {
+
+TEST(StepSweep, AMotionWithoutAnEndPosePerParticipantIsRefused) {
+  Drop d = drop(0.02, 0.03);
+  d.next.pop_back();
+  try {
+    sweep_motions(d.world(), d.participants, d.next, nullptr, nullptr, nullptr);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "sweep_motions: next has 1 entries, expected 2");
+  }
 }
 
 }  // namespace
