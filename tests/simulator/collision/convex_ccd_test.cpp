@@ -161,7 +161,7 @@ TEST(ConvexCcd, BunnyPiecesMatchDenseSamplingTruth) {
   int tested = 0;
   Score score;
 #ifdef ARPHYS_UNDER_SANITIZERS
-  const int motions = 100;  // memory and UB checks of the same paths (1000 take three minutes there)
+  const int motions = 50;  // memory and UB checks of the same paths (1000 take three minutes there)
 #else
   const int motions = 1000;
 #endif
@@ -207,7 +207,7 @@ TEST(ConvexCcd, RestingAndSlidingPiecesMatchDenseSamplingTruth) {
   ContinuousOptions options;
   options.time_tolerance = 1e-6;
 #ifdef ARPHYS_UNDER_SANITIZERS
-  const int motions = 60;
+  const int motions = 30;
 #else
   const int motions = 400;
 #endif
