@@ -54,7 +54,7 @@ struct StepReport {
   // Deepest overlap among the step's resting contacts where they were gathered: the step's
   // start and each cut (0: none). A cut can catch a pair checked only at the end of its
   // motion inside mid-step, but no deeper than the rest of the step undoes at half
-  // max_depenetration_speed_m_s (World::unswept_clear_fraction); every step ends within
+  // max_depenetration_speed_m_s (unswept_clear_fraction); every step ends within
   // the overlap tolerance (and its allowed creep).
   double max_penetration_m = 0;
   int solver_iterations = 0;

@@ -1,7 +1,7 @@
 #include "simulator/dynamics/step_commit.hpp"
 
+#include "simulator/dynamics/step_helpers.hpp"
 #include "simulator/dynamics/step_sweep.hpp"
-#include "simulator/dynamics/world_internal.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -16,8 +16,8 @@ geometry::Pose integrate(const RigidBody& body, const BodyVelocity& u, double h)
 
 std::vector<geometry::Pose> candidate_poses(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
                                             const std::vector<BodyVelocity>& u, double t_s, double h) {
-  world_internal::require_participants("candidate_poses", participants, bodies.size());
-  world_internal::require_size("candidate_poses", "u", u.size(), participants.size());
+  step_helpers::require_participants("candidate_poses", participants, bodies.size());
+  step_helpers::require_size("candidate_poses", "u", u.size(), participants.size());
   std::vector<geometry::Pose> next(participants.size());
   for (std::size_t s = 0; s < participants.size(); ++s) {
     const RigidBody& body = bodies[participants[s]];
@@ -35,11 +35,11 @@ std::vector<geometry::Pose> candidate_poses(const std::vector<RigidBody>& bodies
 int commit_motion(std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
                   const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
                   const std::vector<geometry::Pose>& next, double tau, std::vector<Eigen::AlignedBox3d>& swept) {
-  world_internal::require_participants("commit_motion", participants, bodies.size());
-  world_internal::require_size("commit_motion", "radius_m", radius_m.size(), bodies.size());
-  world_internal::require_size("commit_motion", "u", u.size(), participants.size());
-  world_internal::require_size("commit_motion", "next", next.size(), participants.size());
-  world_internal::require_size("commit_motion", "swept", swept.size(), participants.size());
+  step_helpers::require_participants("commit_motion", participants, bodies.size());
+  step_helpers::require_size("commit_motion", "radius_m", radius_m.size(), bodies.size());
+  step_helpers::require_size("commit_motion", "u", u.size(), participants.size());
+  step_helpers::require_size("commit_motion", "next", next.size(), participants.size());
+  step_helpers::require_size("commit_motion", "swept", swept.size(), participants.size());
   int held = 0;
   for (std::size_t s = 0; s < participants.size(); ++s) {
     RigidBody& body = bodies[participants[s]];

@@ -10,13 +10,13 @@
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/manifold_reduction.hpp"
-#include "simulator/dynamics/world_internal.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::ball_bounds;
-using world_internal::depth_measured;
-using world_internal::row_point;
+using step_helpers::ball_bounds;
+using step_helpers::depth_measured;
+using step_helpers::row_point;
 
 bool MeshCrossingMemo::known_apart(const std::map<BodyPair, ApartAt>& known, int i, int j, const geometry::Pose& X_WA,
                                    const geometry::Pose& X_WB) {
@@ -182,10 +182,9 @@ std::vector<Contact> gather_contacts(const std::vector<RigidBody>& bodies, const
                                      const WorldOptions& options, const ContactHints& hints, MeshCrossingMemo& memo,
                                      const WorkerPool& pool, const std::vector<int>& participants,
                                      std::size_t expected) {
-  world_internal::require_participants("gather_contacts", participants, bodies.size());
-  world_internal::require_size("gather_contacts", "radius_m", radius_m.size(), bodies.size());
-  world_internal::require_size("gather_contacts", "memo.placed_since_step", memo.placed_since_step.size(),
-                               bodies.size());
+  step_helpers::require_participants("gather_contacts", participants, bodies.size());
+  step_helpers::require_size("gather_contacts", "radius_m", radius_m.size(), bodies.size());
+  step_helpers::require_size("gather_contacts", "memo.placed_since_step", memo.placed_since_step.size(), bodies.size());
   const double tolerance = options.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(participants.size());

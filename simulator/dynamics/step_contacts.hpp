@@ -67,7 +67,6 @@ struct MeshCrossingMemo {
   // Bodies added or placed since the last step (by body): only they can cross deeper than
   // the contact tolerance. Their pairs are tested with no feature within the tolerance,
   // and one found crossing stays in placed_crossing (tested every step) until apart.
-  // (A pose set through World::body() is not seen: add_body and place_body place.)
   std::vector<char> placed_since_step;
   std::set<BodyPair> placed_crossing;
   int crossing_tests = 0;  // this step's

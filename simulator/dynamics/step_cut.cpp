@@ -4,29 +4,23 @@
 #include "simulator/dynamics/step_cut.hpp"
 
 #include <algorithm>
-#include <cmath>
-#include <limits>
+#include <functional>
 #include <map>
-#include <optional>
 #include <set>
 #include <vector>
 
-#include "simulator/collision/broad_phase.hpp"
-#include "simulator/collision/separation_certificate.hpp"
 #include "simulator/collision/shape_query.hpp"
-#include "simulator/dynamics/manifold_reduction.hpp"
 #include "simulator/dynamics/position_projection.hpp"
-#include "simulator/dynamics/world_internal.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::depth_measured;
-using world_internal::meets_inside;
-using world_internal::slot_of;
+using step_helpers::depth_measured;
+using step_helpers::slot_of;
 
 namespace {
 
-// Gauss-Seidel sweeps of a projection (World::project_deep_points): the lifted points
+// Gauss-Seidel sweeps of a projection (project_deep_points): the lifted points
 // are a few dozen in a pile's round, most settled in two or three.
 constexpr int kProjectionSweeps = 50;
 // Rounds of a projection: lift, measure every touched pair at the lifted poses, lift the
@@ -53,7 +47,7 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
                          const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                          const ImpactMap& meeting, const ImpactCache& cache,
                          const std::vector<BodyPair>& resting_pairs) {
-  world_internal::require_size("project_deep_points", "next", next.size(), participants.size());
+  step_helpers::require_size("project_deep_points", "next", next.size(), participants.size());
   // The pairs to lift: those ending too deep. A CCD meeting's points (end_depth_m < 0) are
   // an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
   // left to it too (its depth is not measured), and then so is everything.
@@ -152,7 +146,7 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
 double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldOptions& options,
                               const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const ImpactCache& cache, double tau, double h_s) {
-  world_internal::require_size("unswept_clear_fraction", "next", next.size(), participants.size());
+  step_helpers::require_size("unswept_clear_fraction", "next", next.size(), participants.size());
   // (The group's pairs only: at the step's start the cache holds every group's.)
   for (int p = 0; p < static_cast<int>(participants.size()) && tau > 0; ++p)
     for (auto it = cache.lower_bound({participants[p], -1}); it != cache.end() && it->first.first == participants[p];
@@ -177,7 +171,7 @@ double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldO
 
 double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
                         const std::vector<geometry::Pose>& next, const ImpactCache& cache, const ImpactMap& meeting) {
-  world_internal::require_size("shallow_fraction", "next", next.size(), participants.size());
+  step_helpers::require_size("shallow_fraction", "next", next.size(), participants.size());
   double fraction = 1.0;
   // (In the pairs' order, as the cache holds them: each pair halves from where the last
   // one left the fraction.)
@@ -205,10 +199,10 @@ std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::
                                const std::vector<BodyVelocity>& u_before,
                                const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
                                std::vector<geometry::Pose>& next) {
-  world_internal::require_size("keep_motions", "u_before", u_before.size(), participants.size());
-  world_internal::require_size("keep_motions", "next_before", next_before.size(), participants.size());
-  world_internal::require_size("keep_motions", "u", u.size(), participants.size());
-  world_internal::require_size("keep_motions", "next", next.size(), participants.size());
+  step_helpers::require_size("keep_motions", "u_before", u_before.size(), participants.size());
+  step_helpers::require_size("keep_motions", "next_before", next_before.size(), participants.size());
+  step_helpers::require_size("keep_motions", "u", u.size(), participants.size());
+  step_helpers::require_size("keep_motions", "next", next.size(), participants.size());
   std::vector<char> kept(participants.size(), 0);
   for (std::size_t s = 0; s < participants.size(); ++s) {
     const RigidBody& body = bodies[participants[s]];

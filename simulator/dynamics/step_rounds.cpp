@@ -8,11 +8,11 @@
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/dynamics/step_commit.hpp"
 #include "simulator/dynamics/step_cut.hpp"
-#include "simulator/dynamics/world_internal.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::slot_of;
+using step_helpers::slot_of;
 
 namespace {
 
@@ -107,8 +107,8 @@ bool add_impact_points(const RoundsWorld& w, const std::vector<int>& participant
 
 void resolve_rounds(const RoundsWorld& w, const std::vector<int>& participants, PartSolve& part, ImpactCache& cache,
                     bool cut_at_start, PartMotion& motion, std::vector<Contact>& contacts, StepReport& report) {
-  world_internal::require_size("resolve_rounds", "motion.u", motion.u.size(), participants.size());
-  world_internal::require_size("resolve_rounds", "motion.next", motion.next.size(), participants.size());
+  step_helpers::require_size("resolve_rounds", "motion.u", motion.u.size(), participants.size());
+  step_helpers::require_size("resolve_rounds", "motion.next", motion.next.size(), participants.size());
   // The participants' swept boxes and their overlapping pairs, for the end poses they were
   // swept to: a re-solve changes the motions of the islands it touches, so only those
   // bodies are swept again.

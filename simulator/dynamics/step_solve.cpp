@@ -6,13 +6,13 @@
 #include <vector>
 
 #include "simulator/dynamics/disjoint_sets.hpp"
-#include "simulator/dynamics/world_internal.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::combined_friction;
-using world_internal::row_point;
-using world_internal::slot_of;
+using step_helpers::combined_friction;
+using step_helpers::row_point;
+using step_helpers::slot_of;
 
 namespace {
 
@@ -65,7 +65,7 @@ std::vector<Contact> impact_contacts(const std::vector<RigidBody>& bodies, const
 
 SolveSetup prepare_solve(const std::vector<RigidBody>& bodies, const WorldOptions& options, double h, double force_h,
                          const std::vector<int>& participants, const std::vector<Contact>& resting) {
-  world_internal::require_participants("prepare_solve", participants, bodies.size());
+  step_helpers::require_participants("prepare_solve", participants, bodies.size());
   SolveSetup setup;
   setup.h = h;
   setup.warm_h_s = force_h > 0 ? h : 0.0;
@@ -135,9 +135,9 @@ ContactRow contact_row(const std::vector<RigidBody>& bodies, const WorldOptions&
 StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
                      const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
                      const std::vector<Contact>& resting, const ImpactMap& impacts, SolvedIslands* memo) {
-  world_internal::require_size("solve_step", "radius_m", radius_m.size(), bodies.size());
-  world_internal::require_size("solve_step", "setup (its participants)", setup.unknown_of_slot.size(),
-                               participants.size());
+  step_helpers::require_size("solve_step", "radius_m", radius_m.size(), bodies.size());
+  step_helpers::require_size("solve_step", "setup (its participants)", setup.unknown_of_slot.size(),
+                             participants.size());
   StepSolve out;
   const std::vector<Contact> meeting = impact_contacts(bodies, impacts);
   out.solved.reserve(resting.size() + meeting.size());
@@ -171,7 +171,7 @@ StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<dou
 int guard_launches(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
                    const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
                    const std::vector<ContactRow>& rows, std::vector<BodyVelocity>& u) {
-  world_internal::require_size("guard_launches", "u", u.size(), setup.u_unconstrained.size());
+  step_helpers::require_size("guard_launches", "u", u.size(), setup.u_unconstrained.size());
   // The speed a body's energy gives it, sqrt(|v|^2 + w.I.w / m), not its point speed
   // |v| + |w| r: an off-centre impact rightly turns a fall into a spin whose point speed
   // (r the bounding radius about the body origin) is several times the fall's.

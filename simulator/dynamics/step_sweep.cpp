@@ -12,12 +12,12 @@
 #include "simulator/collision/separation_certificate.hpp"
 #include "simulator/collision/shape_query.hpp"
 #include "simulator/dynamics/manifold_reduction.hpp"
-#include "simulator/dynamics/world_internal.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::depth_measured;
-using world_internal::meets_inside;
+using step_helpers::depth_measured;
+using step_helpers::meets_inside;
 
 namespace {
 
@@ -90,7 +90,7 @@ void classify_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int
   // max_unswept_motion_m relative to each other is held by its contacts, and its motion
   // checked at the end like a touching pair's: a point that ends outside the other body
   // and moved less than that was at most half of it inside in between, which matters only
-  // where the step is cut mid-motion (World::unswept_clear_fraction). The CCD of such pairs
+  // where the step is cut mid-motion (unswept_clear_fraction). The CCD of such pairs
   // (surfaces 1 um apart, edges nearly parallel) is the slowest query there is.
   // Primitives are checked by their manifolds, which measure depth exactly; a mesh pair by
   // whether its surfaces cross at the end (check_mesh_crossing), so only when the contacts
@@ -251,9 +251,9 @@ double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, con
 Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                     const std::vector<BodyPair>* resting_pairs, ImpactCache* cache, ImpactMap* meeting,
                     const std::vector<BodyPair>* swept_pairs) {
-  world_internal::require_participants("sweep_motions", participants, w.bodies.size());
-  world_internal::require_size("sweep_motions", "radius_m", w.radius_m.size(), w.bodies.size());
-  world_internal::require_size("sweep_motions", "next", next.size(), participants.size());
+  step_helpers::require_participants("sweep_motions", participants, w.bodies.size());
+  step_helpers::require_size("sweep_motions", "radius_m", w.radius_m.size(), w.bodies.size());
+  step_helpers::require_size("sweep_motions", "next", next.size(), participants.size());
   std::vector<std::pair<int, int>> own;
   if (!swept_pairs) {
     std::vector<Eigen::AlignedBox3d> swept;

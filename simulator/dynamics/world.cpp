@@ -1,36 +1,27 @@
 // World's bodies and its step: the first pass over everything (contacts, one solve, the
 // CCD of its motions), the groups that can meet within the step, and what the step keeps
-// for the next. A step's other stages live beside it: the contacts and the constrained solve
-// in step_contacts.cpp and step_solve.cpp, a group's parts and rounds in world_group.cpp, the sweeping of a
-// motion in world_impacts.cpp, sleep in world_sleep.cpp.
+// for the next. The stages it runs are functions of their own (step_contacts, step_solve,
+// step_sweep, step_rounds, step_cut, step_commit); a group's parts are in world_group.cpp,
+// sleep in world_sleep.cpp.
 #include "simulator/dynamics/world.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <map>
 #include <numeric>
-#include <optional>
-#include <set>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/dynamics/disjoint_sets.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 #include "simulator/dynamics/world_internal.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::combined_friction;
-using world_internal::meets_inside;
-using world_internal::pairs_of;
-using world_internal::row_point;
-
-namespace {
-
-
-}  // namespace
+using step_helpers::combined_friction;
+using step_helpers::meets_inside;
+using step_helpers::pairs_of;
+using step_helpers::row_point;
 
 World::World(WorldOptions options)
     : options_((check_world_options(options), std::move(options))), pool_(options_.threads) {}

@@ -63,7 +63,7 @@ class World {
 
  private:
   // The step's working data (world_internal.hpp): a group's share of the first solve, its
-  // outcome, the first pass over all bodies, a part's solves and motion, the groups' stepping.
+  // outcome, the first pass over all bodies, the groups' stepping.
   struct FirstSolve;
   struct GroupOutcome;
   struct FirstPass;
@@ -86,8 +86,6 @@ class World {
   // impact (at most max_events_per_step). first_ccd: the step's first sweep of all pairs.
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                              ImpactCache& first_ccd, StepReport& report);
-  bool add_impact_points(const std::vector<int>& participants, const PartMotion& motion, const PartSolve& part,
-                         ImpactMap& meeting, ImpactMap& impacts);
   // What the sweep stage reads of this world.
   SweepWorld sweep_world() { return {bodies_, radius_m_, options_, state_.mesh, pool_}; }
   // What a part's rounds read and write of this world.

@@ -2,18 +2,17 @@
 // solved, then goes through its rounds (step_rounds.hpp); a bounce met in turn, or a meeting
 // the rounds cannot hold, cuts the part at its time of impact and the next part starts there.
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <vector>
 
-#include "simulator/collision/broad_phase.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 #include "simulator/dynamics/world.hpp"
 #include "simulator/dynamics/world_internal.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::pairs_of;
-using world_internal::slot_of;
+using step_helpers::pairs_of;
+using step_helpers::slot_of;
 
 World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                                          ImpactCache& first_ccd, StepReport& report) {

@@ -7,12 +7,12 @@
 
 #include "simulator/collision/broad_phase.hpp"
 #include "simulator/dynamics/disjoint_sets.hpp"
+#include "simulator/dynamics/step_helpers.hpp"
 #include "simulator/dynamics/world.hpp"
-#include "simulator/dynamics/world_internal.hpp"
 
 namespace arphys::dynamics {
 
-using world_internal::ball_bounds;
+using step_helpers::ball_bounds;
 
 void World::wake(std::vector<int> woken) {
   while (!woken.empty()) {

@@ -37,7 +37,7 @@ double deepest_overlap_m(const World& world) {
 }
 
 // Every step of the frictionless pile ends within the bound, and no cut inside a
-// step leaves a pair deeper than the rest of the step undoes (World::unswept_clear_fraction:
+// step leaves a pair deeper than the rest of the step undoes (unswept_clear_fraction:
 // without it, pairs left unswept were caught 124 um deep at cuts; with them unswept up to
 // 4 mm, one caught 1.4 mm deep ended step 1393 522 um deep).
 TEST(PileAccuracy, EveryStepOfTheFrictionless1000BoxPileEndsWithin10Micrometres) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tests/simulator/dynamics/test_bodies.hpp"
+#include "tests/support/thrown.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -19,8 +20,7 @@ using testing::plane_body;
 
 TEST(StepCommit, BodiesEndTheFractionOfTheirScrewTheyTookAndANumericalFailureStaysAtRest) {
   std::vector<RigidBody> bodies = {plane_body(), cube("a", {0, 0, 1}), cube("b", {1, 0, 1})};
-  std::vector<double> radius_m;
-  for (const RigidBody& b : bodies) radius_m.push_back(b.bounding_radius_m());
+  const std::vector<double> radius_m = testing::bounding_radii(bodies);
   const std::vector<int> participants{0, 1, 2};
   std::vector<BodyVelocity> u(3);
   u[1].v_WBcm_m_s = {0, 0, -2};
@@ -52,15 +52,8 @@ namespace {
 // the input, before it reads past the end of anything.
 TEST(StepContracts, StagesRefuseInputsThatDoNotFitTheirParticipants) {
   std::vector<RigidBody> bodies = {testing::plane_body(), testing::cube("a", {0, 0, 1})};
-  const std::vector<double> radius_m = {bodies[0].bounding_radius_m(), bodies[1].bounding_radius_m()};
-  const auto message = [](const std::function<void()>& call) {
-    try {
-      call();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no exception");
-  };
+  const std::vector<double> radius_m = testing::bounding_radii(bodies);
+  const auto message = arphys::testing::invalid_argument_message;
   std::vector<Eigen::AlignedBox3d> swept(2);
   EXPECT_EQ(message([&] {
               commit_motion(bodies, radius_m, {0, 1}, std::vector<BodyVelocity>(1), {bodies[0].X_WB, bodies[1].X_WB},

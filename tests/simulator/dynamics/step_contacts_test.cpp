@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "simulator/geometry/triangle_mesh.hpp"
 #include "tests/simulator/dynamics/test_bodies.hpp"
 
 namespace arphys::dynamics {
@@ -25,10 +24,8 @@ struct Bodies {
 Bodies of(std::vector<RigidBody> bodies) {
   Bodies out;
   out.bodies = std::move(bodies);
-  for (std::size_t i = 0; i < out.bodies.size(); ++i) {
-    out.radius_m.push_back(out.bodies[i].bounding_radius_m());
-    out.everyone.push_back(static_cast<int>(i));
-  }
+  out.radius_m = testing::bounding_radii(out.bodies);
+  for (std::size_t i = 0; i < out.bodies.size(); ++i) out.everyone.push_back(static_cast<int>(i));
   out.memo.placed_since_step.assign(out.bodies.size(), 0);
   return out;
 }
@@ -85,10 +82,7 @@ TEST(StepContacts, ContactsTakeTheHintsTheLastStepLeftWithinTheTolerance) {
 
 TEST(StepContacts, APlacedMeshPairThatCrossesGetsAContactThatPushesItApart) {
   const auto mesh_cube = [](const std::string& id, const Eigen::Vector3d& p) {
-    RigidBody body = cube(id, p, 0.08);
-    body.shape = collision::Shape::mesh(
-        std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(Eigen::Vector3d::Constant(0.08))));
-    return body;
+    return testing::mesh_cube(id, p, 0.08);
   };
   RigidBody table = mesh_cube("table", {0, 0, 0});
   table.motion = BodyMotion::kStatic;

@@ -27,7 +27,7 @@ struct Sunk {
   ImpactMap meeting;
   Sweep sweep;
   explicit Sunk(double drop_m) {
-    for (const RigidBody& b : bodies) radius_m.push_back(b.bounding_radius_m());
+    radius_m = testing::bounding_radii(bodies);
     next = {bodies[0].X_WB, geometry::translation_pose({0, 0, 0.1 + 1e-6 - drop_m})};
     memo.placed_since_step = {0, 0};
     sweep = sweep_motions({bodies, radius_m, options, memo, pool}, participants, next, &resting, &cache, &meeting);

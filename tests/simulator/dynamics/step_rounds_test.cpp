@@ -23,8 +23,7 @@ TEST(StepRounds, ABallMeetingTheFloorInsideTheStepBouncesInOneRound) {
   std::vector<RigidBody> bodies = {plane_body(), ball};
   bodies[1].v_WBcm_m_s = {0, 0, -3};
   bodies[1].restitution = 0.5;
-  std::vector<double> radius_m;
-  for (const RigidBody& b : bodies) radius_m.push_back(b.bounding_radius_m());
+  const std::vector<double> radius_m = testing::bounding_radii(bodies);
   const std::vector<int> participants{0, 1};
   const WorldOptions options;
   MeshCrossingMemo memo;

@@ -28,7 +28,7 @@ struct Drop {
 Drop drop(double height_m, double drop_m) {
   Drop d;
   d.bodies = {plane_body(), cube("cube", {0, 0, 0.1 + height_m})};
-  for (const RigidBody& b : d.bodies) d.radius_m.push_back(b.bounding_radius_m());
+  d.radius_m = testing::bounding_radii(d.bodies);
   d.next = {d.bodies[0].X_WB, geometry::translation_pose({0, 0, 0.1 + height_m - drop_m})};
   d.memo.placed_since_step = {0, 0};
   return d;

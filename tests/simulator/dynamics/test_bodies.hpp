@@ -1,9 +1,13 @@
 #pragma once
-// Bodies the World tests build scenes from: a static floor (the plane z = 0) and 1 kg cubes.
+// Bodies the World tests build scenes from: a static floor (the plane z = 0) and 1 kg cubes
+// (as boxes or as meshes).
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/geometry/mass_properties.hpp"
+#include "simulator/geometry/triangle_mesh.hpp"
 
 namespace arphys::dynamics::testing {
 
@@ -22,6 +26,21 @@ inline RigidBody cube(const std::string& id, const Eigen::Vector3d& p, double si
   b.mass = geometry::with_mass(geometry::box_mass_properties(Eigen::Vector3d::Constant(side), 1000), 1.0);
   b.X_WB = geometry::translation_pose(p);
   return b;
+}
+
+// A cube as a 12-triangle mesh (mass properties of the solid cube).
+inline RigidBody mesh_cube(const std::string& id, const Eigen::Vector3d& p, double side) {
+  RigidBody b = cube(id, p, side);
+  b.shape = collision::Shape::mesh(
+      std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(Eigen::Vector3d::Constant(side))));
+  return b;
+}
+
+// Each body's bounding radius about its origin, as World keeps them for its stages.
+inline std::vector<double> bounding_radii(const std::vector<RigidBody>& bodies) {
+  std::vector<double> radius_m;
+  for (const RigidBody& b : bodies) radius_m.push_back(b.bounding_radius_m());
+  return radius_m;
 }
 
 }  // namespace arphys::dynamics::testing

@@ -15,6 +15,7 @@
 #include "simulator/geometry/triangle_mesh.hpp"
 #include "simulator/scene/scene_world.hpp"
 #include "tests/simulator/dynamics/test_bodies.hpp"
+#include "tests/support/thrown.hpp"
 
 namespace arphys::dynamics {
 namespace {
@@ -485,10 +486,7 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
 // step's start, where it is at those poses: the same test, the same answer.
 TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
   const auto mesh_cube = [](const std::string& id, const Eigen::Vector3d& p) {
-    RigidBody body = cube(id, p, 0.08);
-    body.shape = collision::Shape::mesh(
-        std::make_shared<const collision::CollisionMesh>(geometry::make_box_mesh(Eigen::Vector3d::Constant(0.08))));
-    return body;
+    return testing::mesh_cube(id, p, 0.08);
   };
   // A cube sliding past a fixed one, 0.5 mm from it (within the contact tolerance, so a
   // pair the contact pass tests), without gravity: at 3 mm per step the CCD sweeps it, at
@@ -653,14 +651,7 @@ TEST(WorldContracts, SettersRefuseWhatABodyCannotTakeNamingIt) {
   RigidBody offset = testing::cube("offset", {0, 0, 0.5});
   offset.mass.center_of_mass_m = {0.05, 0, 0};
   const int cube = world.add_body(offset);
-  const auto message = [](const std::function<void()>& call) {
-    try {
-      call();
-    } catch (const std::invalid_argument& e) {
-      return std::string(e.what());
-    }
-    return std::string("no exception");
-  };
+  const auto message = arphys::testing::invalid_argument_message;
   EXPECT_NE(message([&] {
               world.set_velocity(0, {1, 0, 0}, {0, 0, 0});
             }).find("'floor' is not dynamic"),
