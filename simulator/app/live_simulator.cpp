@@ -81,19 +81,22 @@ arphys::world_state_t world_state(const sim::SimulatorCore& core, int64_t step_s
   ws.scene_name = core.scene().name;
   ws.step_start_utime = step_start;
   ws.step_end_utime = step_end;
-  for (const auto& body : core.world().bodies()) {
+  const dynamics::World& world = core.world();
+  for (int i = 0; i < world.body_count(); ++i) {
+    const dynamics::BodyModel& body = world.body_model(i);
+    const dynamics::BodyState& now = world.body_state(i);
     arphys::body_state_t b{};
     b.body_id = body.id;
     b.model = body.model;
     b.role = body.real ? arphys::body_state_t::ROLE_REAL : arphys::body_state_t::ROLE_VIRTUAL;
     b.motion = static_cast<int8_t>(body.motion);
-    b.X_WB = msg::to_message(body.X_WB);
-    msg::to_array(body.origin_velocity(), b.v_WB_m_s);
-    msg::to_array(body.w_WB_rad_s, b.w_WB_rad_s);
+    b.X_WB = msg::to_message(now.X_WB);
+    msg::to_array(dynamics::origin_velocity(body, now), b.v_WB_m_s);
+    msg::to_array(now.w_WB_rad_s, b.w_WB_rad_s);
     ws.bodies.push_back(b);
   }
   ws.num_bodies = static_cast<int32_t>(ws.bodies.size());
-  const auto& bodies = core.world().bodies();
+  const auto& bodies = world.model().bodies;
   for (const auto& c : core.world().contacts()) {
     arphys::contact_t contact{};
     contact.body_a = bodies[c.body_a].id;
@@ -299,8 +302,8 @@ void LiveSimulator::publish_heartbeat(Clock::time_point now) {
 void LiveSimulator::run() {
   start_ = last_status_ = last_checkpoint_ = Clock::now();
   last_drop_line_ = start_ - std::chrono::seconds(1);
-  std::fprintf(stderr, "arphys-simulator: scene %s, %zu bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
-               scene_.name.c_str(), core_.world().bodies().size(), scene_.time_step_s,
+  std::fprintf(stderr, "arphys-simulator: scene %s, %d bodies, dt %.4g s, clock %s, tracking policy %s, LCM %s\n",
+               scene_.name.c_str(), core_.world().body_count(), scene_.time_step_s,
                options_.wall_clock ? "wall" : "messages", to_string(options_.core.policy), bus_.url().c_str());
   while (!g_stop) {
     if (options_.duration_s > 0 && std::chrono::duration<double>(Clock::now() - start_).count() > options_.duration_s) break;

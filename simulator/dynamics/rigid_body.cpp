@@ -4,14 +4,19 @@
 
 namespace arphys::dynamics {
 
-Eigen::Matrix3d RigidBody::inverse_inertia_W() const {
-  const Eigen::Matrix3d R = X_WB.linear();
-  return R * mass.inertia_about_com_kg_m2.inverse() * R.transpose();
+Eigen::Matrix3d inertia_W(const BodyModel& m, const BodyState& s) {
+  const Eigen::Matrix3d R = s.X_WB.linear();
+  return R * m.mass.inertia_about_com_kg_m2 * R.transpose();
 }
 
-double RigidBody::kinetic_energy_J() const {
-  if (!is_dynamic()) return 0;
-  return 0.5 * mass.mass_kg * v_WBcm_m_s.squaredNorm() + 0.5 * w_WB_rad_s.dot(inertia_W() * w_WB_rad_s);
+Eigen::Matrix3d inverse_inertia_W(const BodyModel& m, const BodyState& s) {
+  const Eigen::Matrix3d R = s.X_WB.linear();
+  return R * m.mass.inertia_about_com_kg_m2.inverse() * R.transpose();
+}
+
+double kinetic_energy_J(const BodyModel& m, const BodyState& s) {
+  if (!m.is_dynamic()) return 0;
+  return 0.5 * m.mass.mass_kg * s.v_WBcm_m_s.squaredNorm() + 0.5 * s.w_WB_rad_s.dot(inertia_W(m, s) * s.w_WB_rad_s);
 }
 
 geometry::Pose moved_about_com(const geometry::Pose& X_WB, const Eigen::Vector3d& com_B,
@@ -25,7 +30,7 @@ geometry::Pose moved_about_com(const geometry::Pose& X_WB, const Eigen::Vector3d
   return X;
 }
 
-double RigidBody::bounding_radius_m() const {
+double BodyModel::bounding_radius_m() const {
   switch (shape.type()) {
     case collision::Shape::Type::kPlane: return std::numeric_limits<double>::infinity();
     case collision::Shape::Type::kSphere: return shape.radius_m();

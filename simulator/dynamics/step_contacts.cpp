@@ -58,8 +58,9 @@ constexpr double kSameBounceNormal = 0.9;
 // tested with no feature within the tolerance too, and its contact acts at the dynamic
 // body's centre of mass (midway between two dynamic ones'), so that it lifts a sunken body
 // instead of turning it.
-std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& options, const RigidBody& a,
-                                                            const RigidBody& b,
+std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& options, const BodyModel& a,
+                                                            const BodyState& sa, const BodyModel& b,
+                                                            const BodyState& sb,
                                                             const std::vector<collision::ManifoldPoint>& manifold,
                                                             int& crossing_tests, bool* apart,
                                                             collision::NearbyTrianglePairs* nearby, bool placed) {
@@ -69,7 +70,7 @@ std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& 
   const collision::CollisionMesh& mesh_a = *a.shape.triangles();
   const collision::CollisionMesh& mesh_b = *b.shape.triangles();
   ++crossing_tests;
-  const auto crossing = collision::find_intersection(mesh_a, a.X_WB, mesh_b, b.X_WB, nearby);
+  const auto crossing = collision::find_intersection(mesh_a, sa.X_WB, mesh_b, sb.X_WB, nearby);
   if (!crossing) {
     if (apart) *apart = true;
     return std::nullopt;
@@ -77,19 +78,19 @@ std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& 
   Eigen::Vector3d ta[3], tb[3];
   mesh_a.corners(crossing->triangle_A, ta);
   mesh_b.corners(crossing->triangle_B, tb);
-  for (auto& corner : ta) corner = a.X_WB * corner;
-  for (auto& corner : tb) corner = b.X_WB * corner;
+  for (auto& corner : ta) corner = sa.X_WB * corner;
+  for (auto& corner : tb) corner = sb.X_WB * corner;
   // Directions to try, both ways: the crossing triangles' normals and the line between
   // the bodies' centres of mass (a triangle's normal can lie along the crossing, where
   // no shift clears it).
-  const Eigen::Vector3d line_W = b.com_W() - a.com_W();
+  const Eigen::Vector3d line_W = com_W(b, sb) - com_W(a, sa);
   std::vector<Eigen::Vector3d> directions = {(ta[1] - ta[0]).cross(ta[2] - ta[0]).normalized(),
                                              (tb[1] - tb[0]).cross(tb[2] - tb[0]).normalized()};
   if (line_W.norm() > 0) directions.push_back(line_W.normalized());
   const auto clears = [&](const Eigen::Vector3d& shift_W) {
-    geometry::Pose X_B = b.X_WB;
+    geometry::Pose X_B = sb.X_WB;
     X_B.translation() += shift_W;
-    return !collision::intersects(mesh_a, a.X_WB, mesh_b, X_B);
+    return !collision::intersects(mesh_a, sa.X_WB, mesh_b, X_B);
   };
   // How far B must move (the shortest of those ways, to a factor of two) to clear A.
   for (double shift_m = options.overlap_tolerance_m; shift_m <= kDeepestCrossingMeasured_m; shift_m *= 2)
@@ -100,12 +101,12 @@ std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& 
         // the crossing triangles can be anywhere on either (a table's top triangle spans
         // the table), and a push at their middle turns a sunken body about its rim.
         Eigen::Vector3d where = (ta[0] + ta[1] + ta[2] + tb[0] + tb[1] + tb[2]) / 6.0;
-        if (placed && !a.is_dynamic()) {
-          where = b.com_W();
-        } else if (placed && !b.is_dynamic()) {
-          where = a.com_W();
+        if (placed && !moves(a, sa)) {
+          where = com_W(b, sb);
+        } else if (placed && !moves(b, sb)) {
+          where = com_W(a, sa);
         } else if (placed) {
-          where = 0.5 * (a.com_W() + b.com_W());
+          where = 0.5 * (com_W(a, sa) + com_W(b, sb));
         }
         return collision::ManifoldPoint{where, where, sign * direction, -shift_m, *crossing};
       }
@@ -114,23 +115,25 @@ std::optional<collision::ManifoldPoint> mesh_crossing_depth(const WorldOptions& 
 
 // A mesh pair's reduced manifold at the bodies' poses, with the contact that pushes crossed
 // surfaces apart; updates the pair's memos.
-std::vector<collision::ManifoldPoint> mesh_pair_features(const std::vector<RigidBody>& bodies,
-                                                         const WorldOptions& options, MeshCrossingMemo& memo, int i,
-                                                         int j) {
-  const RigidBody& a = bodies[i];
-  const RigidBody& b = bodies[j];
+std::vector<collision::ManifoldPoint> mesh_pair_features(const WorldModel& model, const std::vector<BodyState>& state,
+                                                         MeshCrossingMemo& memo, int i, int j) {
+  const WorldOptions& options = model.options;
+  const BodyModel& a = model.bodies[i];
+  const BodyModel& b = model.bodies[j];
+  const BodyState& sa = state[i];
+  const BodyState& sb = state[j];
   collision::NearbyTrianglePairs* nearby = memo.nearby_pairs(i, j);
   const std::vector<collision::ManifoldPoint> manifold =
-      collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, options.contact_tolerance_m, nearby);
+      collision::contact_manifold(a.shape, sa.X_WB, b.shape, sb.X_WB, options.contact_tolerance_m, nearby);
   std::vector<collision::ManifoldPoint> features = reduce_manifold(manifold, options.max_contacts_per_pair);
   bool apart = false;
   const bool placed = memo.placed_since_step[i] || memo.placed_since_step[j] || memo.placed_crossing.count({i, j});
-  const bool ended_apart = MeshCrossingMemo::known_apart(memo.apart_at_last_end, i, j, a.X_WB, b.X_WB);
-  const auto crossing = ended_apart
-                            ? std::nullopt
-                            : mesh_crossing_depth(options, a, b, manifold, memo.crossing_tests, &apart, nearby, placed);
+  const bool ended_apart = MeshCrossingMemo::known_apart(memo.apart_at_last_end, i, j, sa.X_WB, sb.X_WB);
+  const auto crossing =
+      ended_apart ? std::nullopt
+                  : mesh_crossing_depth(options, a, sa, b, sb, manifold, memo.crossing_tests, &apart, nearby, placed);
   apart |= ended_apart;
-  if (apart) memo.apart_at[{i, j}] = {a.X_WB, b.X_WB};  // (i < j: participants are sorted)
+  if (apart) memo.apart_at[{i, j}] = {sa.X_WB, sb.X_WB};  // (i < j: participants are sorted)
   if (crossing && placed) {
     memo.placed_crossing.insert({i, j});
   } else if (!crossing) {
@@ -178,40 +181,43 @@ void append_contacts(const WorldOptions& options, const ContactHints& hints, int
 
 }  // namespace
 
-std::vector<Contact> gather_contacts(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                                     const WorldOptions& options, const ContactHints& hints, MeshCrossingMemo& memo,
-                                     const WorkerPool& pool, const std::vector<int>& participants,
-                                     std::size_t expected) {
-  step_helpers::require_participants("gather_contacts", participants, bodies.size());
-  step_helpers::require_size("gather_contacts", "radius_m", radius_m.size(), bodies.size());
-  step_helpers::require_size("gather_contacts", "memo.placed_since_step", memo.placed_since_step.size(), bodies.size());
+std::vector<Contact> gather_contacts(const WorldModel& model, const std::vector<BodyState>& state,
+                                     const ContactHints& hints, MeshCrossingMemo& memo, const WorkerPool& pool,
+                                     const std::vector<int>& participants, std::size_t expected) {
+  step_helpers::require_model("gather_contacts", model, state);
+  step_helpers::require_participants("gather_contacts", participants, state.size());
+  step_helpers::require_size("gather_contacts", "memo.placed_since_step", memo.placed_since_step.size(), state.size());
+  const WorldOptions& options = model.options;
   const double tolerance = options.contact_tolerance_m;
   std::vector<Eigen::AlignedBox3d> boxes;
   boxes.reserve(participants.size());
-  for (int i : participants) boxes.push_back(ball_bounds(bodies[i].X_WB.translation(), radius_m[i] + tolerance));
+  for (int i : participants) boxes.push_back(ball_bounds(state[i].X_WB.translation(), model.radius_m[i] + tolerance));
   std::vector<BodyPair> pairs;
   for (const auto& [p, q] : collision::overlapping_pairs(boxes)) {
-    const RigidBody& a = bodies[participants[p]];
-    const RigidBody& b = bodies[participants[q]];
-    if (!a.is_dynamic() && !b.is_dynamic()) continue;
+    const int i = participants[p], j = participants[q];
+    const BodyModel& a = model.bodies[i];
+    const BodyModel& b = model.bodies[j];
+    if (!moves(a, state[i]) && !moves(b, state[j])) continue;
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
-    pairs.emplace_back(participants[p], participants[q]);
+    pairs.emplace_back(i, j);
   }
   // A depth-measured pair's manifold depends on its poses alone: on the worker threads,
   // each into its own slot. Mesh pairs share the memo: in order, here.
   std::vector<std::vector<collision::ManifoldPoint>> features(pairs.size());
   pool.for_each(static_cast<int>(pairs.size()), [&](int k) {
-    const RigidBody& a = bodies[pairs[k].first];
-    const RigidBody& b = bodies[pairs[k].second];
+    const auto [i, j] = pairs[k];
+    const BodyModel& a = model.bodies[i];
+    const BodyModel& b = model.bodies[j];
     if (depth_measured(a, b))
-      features[k] = reduce_manifold(collision::contact_manifold(a.shape, a.X_WB, b.shape, b.X_WB, tolerance),
-                                    options.max_contacts_per_pair);
+      features[k] =
+          reduce_manifold(collision::contact_manifold(a.shape, state[i].X_WB, b.shape, state[j].X_WB, tolerance),
+                          options.max_contacts_per_pair);
   });
   std::vector<Contact> contacts;
   contacts.reserve(expected);
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [i, j] = pairs[k];
-    if (!depth_measured(bodies[i], bodies[j])) features[k] = mesh_pair_features(bodies, options, memo, i, j);
+    if (!depth_measured(model.bodies[i], model.bodies[j])) features[k] = mesh_pair_features(model, state, memo, i, j);
     append_contacts(options, hints, i, j, features[k], contacts);
   }
   return contacts;

@@ -11,9 +11,8 @@
 
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/dynamics/contact.hpp"
-#include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
-#include "simulator/dynamics/world_options.hpp"
+#include "simulator/dynamics/world_model.hpp"
 
 namespace arphys::dynamics {
 
@@ -82,12 +81,11 @@ struct MeshCrossingMemo {
 // Mesh crossings deeper than this are not measured.
 constexpr double kDeepestCrossingMeasured_m = 0.01;
 
-// The contacts among the participants (sorted body indices) at the bodies' poses, each
-// with its hints. radius_m: each body's bounding radius about its origin; expected: how
-// many to reserve room for. Depth-measured pairs on the pool's threads, mesh pairs in order.
-std::vector<Contact> gather_contacts(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                                     const WorldOptions& options, const ContactHints& hints, MeshCrossingMemo& memo,
-                                     const WorkerPool& pool, const std::vector<int>& participants,
-                                     std::size_t expected);
+// The contacts among the participants (sorted body indices) at the bodies' poses (state, by
+// body), each with its hints. expected: how many to reserve room for. Depth-measured pairs on
+// the pool's threads, mesh pairs in order.
+std::vector<Contact> gather_contacts(const WorldModel& model, const std::vector<BodyState>& state,
+                                     const ContactHints& hints, MeshCrossingMemo& memo, const WorkerPool& pool,
+                                     const std::vector<int>& participants, std::size_t expected);
 
 }  // namespace arphys::dynamics

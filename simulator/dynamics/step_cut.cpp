@@ -29,7 +29,7 @@ constexpr int kProjectionRounds = 8;
 
 // `fraction` of the pair's motions, halved (at most max_halvings times) until the pair
 // overlaps there by no more than allowed_depth_m(fraction).
-double halved_until_within(const std::vector<RigidBody>& bodies, const BodyPair& pair,
+double halved_until_within(const std::vector<BodyModel>& bodies, const BodyPair& pair,
                            const geometry::ScrewMotion& motion_a, const geometry::ScrewMotion& motion_b,
                            double fraction, int max_halvings, const std::function<double(double)>& allowed_depth_m) {
   for (int halving = 0; halving < max_halvings; ++halving) {
@@ -41,24 +41,32 @@ double halved_until_within(const std::vector<RigidBody>& bodies, const BodyPair&
   return fraction;
 }
 
-}  // namespace
-
-bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOptions& options,
-                         const std::vector<int>& participants, std::vector<geometry::Pose>& next,
-                         const ImpactMap& meeting, const ImpactCache& cache,
-                         const std::vector<BodyPair>& resting_pairs) {
-  step_helpers::require_size("project_deep_points", "next", next.size(), participants.size());
-  // The pairs to lift: those ending too deep. A CCD meeting's points (end_depth_m < 0) are
-  // an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
-  // left to it too (its depth is not measured), and then so is everything.
+// The pairs a lift moves out: those ending too deep. A CCD meeting's points (end_depth_m <
+// 0) are an impact, left for the re-solve, which bounces it; a mesh pair ending too deep is
+// left to it too (its depth is not measured), and then so is everything (none returned).
+std::set<BodyPair> pairs_to_lift(const std::vector<BodyModel>& bodies, const ImpactMap& meeting,
+                                 const ImpactCache& cache) {
   std::set<BodyPair> lifted;
   for (const auto& [pair, hits] : meeting) {
     if (std::none_of(hits.begin(), hits.end(), [](const ImpactPoint& hit) { return hit.end_depth_m >= 0; })) continue;
-    if (!depth_measured(bodies[pair.first], bodies[pair.second]) || !cache.count(pair)) return false;
+    if (!depth_measured(bodies[pair.first], bodies[pair.second]) || !cache.count(pair)) return {};
     lifted.insert(pair);
   }
+  return lifted;
+}
+
+}  // namespace
+
+bool project_deep_points(const WorldModel& model, const std::vector<BodyState>& state,
+                         const std::vector<int>& participants, std::vector<geometry::Pose>& next,
+                         const ImpactMap& meeting, const ImpactCache& cache,
+                         const std::vector<BodyPair>& resting_pairs) {
+  step_helpers::require_model("project_deep_points", model, state);
+  const std::vector<BodyModel>& bodies = model.bodies;
+  step_helpers::require_size("project_deep_points", "next", next.size(), participants.size());
+  std::set<BodyPair> lifted = pairs_to_lift(bodies, meeting, cache);
   if (lifted.empty()) return false;
-  const double tolerance = options.overlap_tolerance_m;
+  const double tolerance = model.options.overlap_tolerance_m;
   // How deep a pair may end: as the end check allows, the deeper of the tolerance and a
   // tenth of it over the pair's start depth (measured here, once, for a pair the check
   // skipped: one that barely moved; the start poses do not change between rounds).
@@ -69,7 +77,7 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
     const auto [known, fresh] = allowed_unchecked.try_emplace(pair, 0.0);
     if (fresh) {
       const double start_depth =
-          deepest_overlap(bodies[pair.first], bodies[pair.first].X_WB, bodies[pair.second], bodies[pair.second].X_WB);
+          deepest_overlap(bodies[pair.first], state[pair.first].X_WB, bodies[pair.second], state[pair.second].X_WB);
       known->second = std::max(start_depth + 0.1 * tolerance, tolerance);
     }
     return known->second;
@@ -79,14 +87,14 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
   std::vector<int> index(bodies.size(), -1);  // body -> index in moved
   const auto body_index = [&](int body) {
     if (index[body] < 0) {
-      const RigidBody& b = bodies[body];
+      const BodyModel& b = bodies[body];
       const int slot = slot_of(participants, body);
       ProjectedBody projected;
       projected.X_WB = next[slot];  // (a non-dynamic body's end pose, which it keeps)
       projected.center_of_mass_B = b.mass.center_of_mass_m;
-      if (b.is_dynamic()) {
+      if (moves(b, state[body])) {
         projected.inverse_mass_1_kg = 1.0 / b.mass.mass_kg;
-        projected.inverse_inertia_W = b.inverse_inertia_W();
+        projected.inverse_inertia_W = inverse_inertia_W(b, state[body]);
       }
       index[body] = static_cast<int>(moved.size());
       moved.push_back(projected);
@@ -103,8 +111,8 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
   for (int round = 0; round < kProjectionRounds; ++round) {
     std::vector<ProjectedPoint> points;
     for (const auto& pair : lifted) {
-      const RigidBody& a = bodies[pair.first];
-      const RigidBody& b = bodies[pair.second];
+      const BodyModel& a = bodies[pair.first];
+      const BodyModel& b = bodies[pair.second];
       const geometry::Pose X_A = pose_of(pair.first), X_B = pose_of(pair.second);
       const double allowed = allowed_depth(pair);
       const double target = allowed - 0.5 * tolerance;
@@ -143,9 +151,11 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
   return false;
 }
 
-double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldOptions& options,
+double unswept_clear_fraction(const WorldModel& model, const std::vector<BodyState>& state,
                               const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const ImpactCache& cache, double tau, double h_s) {
+  step_helpers::require_model("unswept_clear_fraction", model, state);
+  const std::vector<BodyModel>& bodies = model.bodies;
   step_helpers::require_size("unswept_clear_fraction", "next", next.size(), participants.size());
   // (The group's pairs only: at the step's start the cache holds every group's.)
   for (int p = 0; p < static_cast<int>(participants.size()) && tau > 0; ++p)
@@ -156,21 +166,22 @@ double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldO
       const int q = slot_of(participants, pair.second);
       if (q < 0) continue;  // another group's pair
       if (query.next_A.matrix() != next[p].matrix() || query.next_B.matrix() != next[q].matrix()) continue;
-      const geometry::ScrewMotion motion_a(bodies[pair.first].X_WB, next[p]),
-          motion_b(bodies[pair.second].X_WB, next[q]);
+      const geometry::ScrewMotion motion_a(state[pair.first].X_WB, next[p]), motion_b(state[pair.second].X_WB, next[q]);
       // (Twelve halvings: a pair that moved a centimetre is then within 3 um of its start.)
       const double allowed_m = query.allowed_depth_m;
       tau = halved_until_within(bodies, pair, motion_a, motion_b, tau, 12, [&](double fraction) {
         // What the rest of the step undoes (at half the depenetration speed) may be left:
         // halving to the end check's micrometre made cut after cut, to the event cap.
-        return std::max(allowed_m, 0.5 * options.max_depenetration_speed_m_s * h_s * (1 - fraction));
+        return std::max(allowed_m, 0.5 * model.options.max_depenetration_speed_m_s * h_s * (1 - fraction));
       });
     }
   return tau;
 }
 
-double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                        const std::vector<geometry::Pose>& next, const ImpactCache& cache, const ImpactMap& meeting) {
+double shallow_fraction(const WorldModel& model, const std::vector<BodyState>& state,
+                        const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                        const ImpactCache& cache, const ImpactMap& meeting) {
+  step_helpers::require_model("shallow_fraction", model, state);
   step_helpers::require_size("shallow_fraction", "next", next.size(), participants.size());
   double fraction = 1.0;
   // (In the pairs' order, as the cache holds them: each pair halves from where the last
@@ -188,28 +199,29 @@ double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<
       fraction = std::min(fraction, query.free_until);  // a mesh pair: where its surfaces last did not cross
       continue;
     }
-    const geometry::ScrewMotion motion_a(bodies[pair.first].X_WB, next[p]), motion_b(bodies[pair.second].X_WB, next[q]);
-    fraction = halved_until_within(bodies, pair, motion_a, motion_b, fraction, 6,
+    const geometry::ScrewMotion motion_a(state[pair.first].X_WB, next[p]), motion_b(state[pair.second].X_WB, next[q]);
+    fraction = halved_until_within(model.bodies, pair, motion_a, motion_b, fraction, 6,
                                    [&](double) { return query.allowed_depth_m; });
   }
   return fraction;
 }
 
-std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                               const std::vector<BodyVelocity>& u_before,
+std::vector<char> keep_motions(const WorldModel& model, const std::vector<BodyState>& state,
+                               const std::vector<int>& participants, const std::vector<BodyVelocity>& u_before,
                                const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
                                std::vector<geometry::Pose>& next) {
+  step_helpers::require_model("keep_motions", model, state);
   step_helpers::require_size("keep_motions", "u_before", u_before.size(), participants.size());
   step_helpers::require_size("keep_motions", "next_before", next_before.size(), participants.size());
   step_helpers::require_size("keep_motions", "u", u.size(), participants.size());
   step_helpers::require_size("keep_motions", "next", next.size(), participants.size());
   std::vector<char> kept(participants.size(), 0);
   for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = bodies[participants[s]];
-    if (body.motion == BodyMotion::kStatic) {
+    const BodyModel& body = model.bodies[participants[s]];
+    const bool dynamic = moves(body, state[participants[s]]);
+    if (!dynamic && body.motion != BodyMotion::kKinematic) {  // (static, or a sleeper held fixed)
       kept[s] = 1;
-    } else if (body.is_dynamic() && u[s].v_WBcm_m_s == u_before[s].v_WBcm_m_s &&
-               u[s].w_WB_rad_s == u_before[s].w_WB_rad_s) {
+    } else if (dynamic && u[s].v_WBcm_m_s == u_before[s].v_WBcm_m_s && u[s].w_WB_rad_s == u_before[s].w_WB_rad_s) {
       // Exactly: a pair a thousandth of the overlap tolerance too deep is corrected by a
       // velocity change of that size, which a looser test would keep undone, round after
       // round.
@@ -220,15 +232,16 @@ std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::
   return kept;
 }
 
-ImpactCache carry_over_cut(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                           const std::vector<BodyVelocity>& u, std::vector<geometry::Pose>& next, Cut& cut) {
+ImpactCache carry_over_cut(const WorldModel& model, const std::vector<BodyState>& state,
+                           const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                           std::vector<geometry::Pose>& next, Cut& cut) {
   // A dynamic body the solve after a cut left as it was goes on along the same screw
   // motion (integrate's constant twist): its end pose is the one before the cut, and a
   // pair of such bodies (or of one and a static body) moves over the rest of the step
   // as it did over that part of the motion. Its CCD answer carries over, its time
   // rescaled. (Queried afresh after every cut, a spawn of 100 bunnies made 8,000 mesh
   // queries per step.)
-  const std::vector<char> goes_on = keep_motions(bodies, participants, cut.u, cut.next, u, next);
+  const std::vector<char> goes_on = keep_motions(model, state, participants, cut.u, cut.next, u, next);
   for (auto it = cut.answers.begin(); it != cut.answers.end();) {
     const int a = slot_of(participants, it->first.first), b = slot_of(participants, it->first.second);
     CachedImpact& query = it->second;

@@ -7,9 +7,8 @@
 
 #include "simulator/dynamics/contact.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
-#include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/dynamics/step_sweep.hpp"
-#include "simulator/dynamics/world_options.hpp"
+#include "simulator/dynamics/world_model.hpp"
 
 namespace arphys::dynamics {
 
@@ -17,7 +16,7 @@ namespace arphys::dynamics {
 // the end poses `next` (by participant), with the resting pairs the lift deepens; CCD
 // meetings are left for the re-solve. False (next unchanged) when a mesh pair ends too deep
 // or the lift does not converge (a body squeezed between fixed ones).
-bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOptions& options,
+bool project_deep_points(const WorldModel& model, const std::vector<BodyState>& state,
                          const std::vector<int>& participants, std::vector<geometry::Pose>& next,
                          const ImpactMap& meeting, const ImpactCache& cache,
                          const std::vector<BodyPair>& resting_pairs);
@@ -26,20 +25,21 @@ bool project_deep_points(const std::vector<RigidBody>& bodies, const WorldOption
 // pair whose depth is measured (see CachedImpact::swept; not a mesh pair) overlaps deeper
 // than allowed or than the rest of the step can undo: a step cut at tau must not leave such
 // a pair where its motion only passes through (a box clipping another's corner).
-double unswept_clear_fraction(const std::vector<RigidBody>& bodies, const WorldOptions& options,
+double unswept_clear_fraction(const WorldModel& model, const std::vector<BodyState>& state,
                               const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                               const ImpactCache& cache, double tau, double h_s);
 
 // The fraction of the motions to `next` at which no touching pair that deepens is deeper
 // than it may be (halving from 1): the pairs `meeting` names, as sweep_motions left them in
 // `cache` (every pair that deepens is in `meeting`).
-double shallow_fraction(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                        const std::vector<geometry::Pose>& next, const ImpactCache& cache, const ImpactMap& meeting);
+double shallow_fraction(const WorldModel& model, const std::vector<BodyState>& state,
+                        const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
+                        const ImpactCache& cache, const ImpactMap& meeting);
 
 // Keeps the end pose next_before of each dynamic body whose velocity u is exactly u_before
-// (static bodies: always); returns which, by participant.
-std::vector<char> keep_motions(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                               const std::vector<BodyVelocity>& u_before,
+// (static bodies and held sleepers: always); returns which, by participant.
+std::vector<char> keep_motions(const WorldModel& model, const std::vector<BodyState>& state,
+                               const std::vector<int>& participants, const std::vector<BodyVelocity>& u_before,
                                const std::vector<geometry::Pose>& next_before, const std::vector<BodyVelocity>& u,
                                std::vector<geometry::Pose>& next);
 
@@ -54,7 +54,8 @@ struct Cut {
 // The CCD answers of the cut motion that hold for the motion after it (u, next: by
 // participant, from the cut's poses); sets the end pose of each body that goes on as
 // before back to the one the cut motion had.
-ImpactCache carry_over_cut(const std::vector<RigidBody>& bodies, const std::vector<int>& participants,
-                           const std::vector<BodyVelocity>& u, std::vector<geometry::Pose>& next, Cut& cut);
+ImpactCache carry_over_cut(const WorldModel& model, const std::vector<BodyState>& state,
+                           const std::vector<int>& participants, const std::vector<BodyVelocity>& u,
+                           std::vector<geometry::Pose>& next, Cut& cut);
 
 }  // namespace arphys::dynamics

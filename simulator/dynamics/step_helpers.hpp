@@ -13,7 +13,7 @@
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/collision/discrete_query.hpp"
 #include "simulator/dynamics/contact.hpp"
-#include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/world_model.hpp"
 
 namespace arphys::dynamics::step_helpers {
 
@@ -34,6 +34,13 @@ inline void require_participants(const char* stage, const std::vector<int>& part
       throw std::invalid_argument(std::string(stage) + ": participant " + std::to_string(s) + " is body " +
                                   std::to_string(participants[s]) + ", expected increasing indices below " +
                                   std::to_string(n_bodies));
+}
+
+// A stage's world: a state for each of the model's bodies, and a bounding radius each
+// (std::invalid_argument naming the stage otherwise).
+inline void require_model(const char* stage, const WorldModel& model, const std::vector<BodyState>& state) {
+  require_size(stage, "state", state.size(), model.bodies.size());
+  require_size(stage, "model.radius_m", model.radius_m.size(), model.bodies.size());
 }
 
 // The axis-aligned box of the ball about `centre` (all of space for an unbounded body).
@@ -58,8 +65,8 @@ inline Eigen::Vector3d row_point(const collision::ManifoldPoint& feature) {
 
 // Whether the pair's contact manifold measures how deep the bodies overlap (signed
 // distances): every pair but those of a mesh with a mesh or a box.
-inline bool depth_measured(const RigidBody& a, const RigidBody& b) {
-  const auto is_mesh = [](const RigidBody& body) { return body.shape.type() == collision::Shape::Type::kMesh; };
+inline bool depth_measured(const BodyModel& a, const BodyModel& b) {
+  const auto is_mesh = [](const BodyModel& body) { return body.shape.type() == collision::Shape::Type::kMesh; };
   return !(is_mesh(a) || is_mesh(b)) || !a.shape.triangles() || !b.shape.triangles();
 }
 
@@ -70,7 +77,7 @@ inline int slot_of(const std::vector<int>& participants, int body) {
 }
 
 // The Coulomb coefficient of a pair: the geometric mean of the two bodies', or the one given.
-inline double combined_friction(const RigidBody& a, const RigidBody& b) {
+inline double combined_friction(const BodyModel& a, const BodyModel& b) {
   if (a.friction && b.friction) return std::sqrt(*a.friction * *b.friction);
   if (a.friction) return *a.friction;
   if (b.friction) return *b.friction;

@@ -34,13 +34,13 @@ double last_round_fraction(const RoundsWorld& w, const std::vector<int>& partici
   // on instead; the pair crosses by what this motion dips it and is pushed apart in the
   // next step. With nothing tracked moving, waiting costs only time.
   if (!deepening) return tau;
-  const double shallow = shallow_fraction(w.sweep.bodies, participants, next, cache, meeting);
+  const double shallow = shallow_fraction(w.sweep.model, w.sweep.state, participants, next, cache, meeting);
   const bool would_wait = shallow == 0 && cut_at_start;
   const auto tracked_moving = [&] {
     return std::any_of(participants.begin(), participants.end(), [&](int i) {
-      const RigidBody& body = w.sweep.bodies[i];
-      return body.motion == BodyMotion::kKinematic &&
-             (body.v_WBcm_m_s.squaredNorm() > 0 || body.w_WB_rad_s.squaredNorm() > 0);
+      const BodyState& now = w.sweep.state[i];
+      return w.sweep.model.bodies[i].motion == BodyMotion::kKinematic &&
+             (now.v_WBcm_m_s.squaredNorm() > 0 || now.w_WB_rad_s.squaredNorm() > 0);
     });
   };
   if (!would_wait || !tracked_moving()) return std::min(tau, shallow);
@@ -55,17 +55,20 @@ bool add_impact_points(const RoundsWorld& w, const std::vector<int>& participant
                        const PartSolve& part, ImpactMap& meeting, ImpactMap& impacts) {
   // A point's velocity in the motion that let it in.
   const auto velocity = [&](int body, const Eigen::Vector3d& p_W) -> Eigen::Vector3d {
-    const RigidBody& b = w.sweep.bodies[body];
-    if (!b.is_dynamic()) return b.velocity_of_point(p_W);
+    const BodyModel& b = w.sweep.model.bodies[body];
+    const BodyState& now = w.sweep.state[body];
+    if (!moves(b, now)) return velocity_of_point(b, now, p_W);
     const int slot = slot_of(participants, body);
-    return motion.u[slot].v_WBcm_m_s + motion.u[slot].w_WB_rad_s.cross(p_W - b.com_W());
+    return motion.u[slot].v_WBcm_m_s + motion.u[slot].w_WB_rad_s.cross(p_W - com_W(b, now));
   };
   bool chained = false;
   for (auto& [pair, hits] : meeting) {
     const geometry::Pose& X_A_end = motion.next[slot_of(participants, pair.first)];
     const geometry::Pose& X_B_end = motion.next[slot_of(participants, pair.second)];
-    const RigidBody& body_a = w.sweep.bodies[pair.first];
-    const RigidBody& body_b = w.sweep.bodies[pair.second];
+    const BodyModel& body_a = w.sweep.model.bodies[pair.first];
+    const BodyModel& body_b = w.sweep.model.bodies[pair.second];
+    const BodyState& state_a = w.sweep.state[pair.first];
+    const BodyState& state_b = w.sweep.state[pair.second];
     for (ImpactPoint& hit : hits) {
       // How deep the point ends the motion: a touching pair's as measured, a CCD meeting's
       // material points along A's normal there (the row's linearised bound misses it by
@@ -74,25 +77,25 @@ bool add_impact_points(const RoundsWorld& w, const std::vector<int>& participant
           hit.end_depth_m >= 0
               ? hit.end_depth_m
               : (X_A_end.linear() * hit.normal_A_B).dot(X_A_end * hit.point_A_B - X_B_end * hit.point_B_B);
-      const Eigen::Vector3d p_A = body_a.X_WB * hit.point_A_B, p_B = body_b.X_WB * hit.point_B_B;
-      const Eigen::Vector3d n = body_a.X_WB.linear() * hit.normal_A_B;
+      const Eigen::Vector3d p_A = state_a.X_WB * hit.point_A_B, p_B = state_b.X_WB * hit.point_B_B;
+      const Eigen::Vector3d n = state_a.X_WB.linear() * hit.normal_A_B;
       // At the midpoint, as the constraint row measures it (the two material points can be
       // millimetres apart along the surface at the start of a sliding step).
       const Eigen::Vector3d m = 0.5 * (p_A + p_B);
       const double v_n = n.dot(velocity(pair.second, m) - velocity(pair.first, m));
-      hit.min_normal_velocity_m_s = v_n + (end_depth_m + w.sweep.options.contact_gap_m) / part.h;
+      hit.min_normal_velocity_m_s = v_n + (end_depth_m + w.sweep.model.options.contact_gap_m) / part.h;
       // A bouncing meeting this step's solve brought about (a ball struck by another within
       // the step, which then strikes a third): the row's bounce comes from the velocities
       // at the step's start, which do not have it, and solved with the first impact at once
       // it would share the momentum out. Only where the bounce missed is itself one
       // (restitution times the approach the solve added, beyond gravity's over the step).
-      if (hit.end_depth_m >= 0 || v_n >= -w.sweep.options.restitution_threshold_m_s) continue;
+      if (hit.end_depth_m >= 0 || v_n >= -w.sweep.model.options.restitution_threshold_m_s) continue;
       const double restitution = std::max(body_a.restitution, body_b.restitution);
-      const double v_n_start = n.dot(body_b.velocity_of_point(m) - body_a.velocity_of_point(m));
+      const double v_n_start = n.dot(velocity_of_point(body_b, state_b, m) - velocity_of_point(body_a, state_a, m));
       const double missed_bounce_m_s =
-          restitution * (std::abs(v_n - v_n_start) - w.sweep.options.gravity_m_s2.norm() * part.force_h);
-      if (missed_bounce_m_s <= w.sweep.options.restitution_threshold_m_s) continue;
-      if (restitution >= w.sweep.options.sequential_bounce_restitution) {
+          restitution * (std::abs(v_n - v_n_start) - w.sweep.model.options.gravity_m_s2.norm() * part.force_h);
+      if (missed_bounce_m_s <= w.sweep.model.options.restitution_threshold_m_s) continue;
+      if (restitution >= w.sweep.model.options.sequential_bounce_restitution) {
         chained = true;
       } else {
         w.held_back_bounces.push_back({pair, n, missed_bounce_m_s});
@@ -121,7 +124,8 @@ void resolve_rounds(const RoundsWorld& w, const std::vector<int>& participants, 
       if (!swept_to.empty() && motion.next[s].matrix() == swept_to[s].matrix()) {
         changed[s] = 0;
       } else {
-        swept_boxes[s] = swept_box(w.sweep.bodies[participants[s]], w.sweep.radius_m[participants[s]], motion.next[s]);
+        swept_boxes[s] =
+            swept_box(w.sweep.state[participants[s]].X_WB, w.sweep.model.radius_m[participants[s]], motion.next[s]);
       }
     }
     swept_pairs = swept_to.empty() ? collision::overlapping_pairs(swept_boxes)
@@ -157,9 +161,9 @@ void resolve_rounds(const RoundsWorld& w, const std::vector<int>& participants, 
     // are lifted (the velocities stay the solve's), and the next round checks the motion
     // to the lifted poses as it checked this one. With a meeting inside, the re-solve
     // replaces the motion anyway, and the deep points become rows of it.
-    if (w.sweep.options.project_deep_points && deepening && motion.tau >= 1.0 && !lifts_meet &&
+    if (w.sweep.model.options.project_deep_points && deepening && motion.tau >= 1.0 && !lifts_meet &&
         projections < kMaxProjectionsPerMotion &&
-        project_deep_points(w.sweep.bodies, w.sweep.options, participants, motion.next, meeting, cache,
+        project_deep_points(w.sweep.model, w.sweep.state, participants, motion.next, meeting, cache,
                             part.resting_pairs)) {
       lifted = true;
       ++report.projections;
@@ -171,18 +175,19 @@ void resolve_rounds(const RoundsWorld& w, const std::vector<int>& participants, 
       // Cut at the meeting, but not past where a touching pair digs in (cut past it, a
       // mesh pair would cross and sink unseen). A pair crossing at once would make it a cut
       // of nothing, again and again: the bounce is then solved with the rest.
-      const double cut_at =
-          deepening ? std::min(motion.tau, shallow_fraction(w.sweep.bodies, participants, motion.next, cache, meeting))
-                    : motion.tau;
+      const double cut_at = deepening
+                                ? std::min(motion.tau, shallow_fraction(w.sweep.model, w.sweep.state, participants,
+                                                                        motion.next, cache, meeting))
+                                : motion.tau;
       if (cut_at > 0) {
         motion.tau = cut_at;
         return;
       }
     }
     if (!part.setup)
-      part.setup = prepare_solve(w.sweep.bodies, w.sweep.options, part.h, part.force_h, participants, part.resting);
-    StepSolve resolved = solve_step(w.sweep.bodies, w.sweep.radius_m, w.sweep.options, *part.setup, participants,
-                                    part.resting, impacts, &part.islands);
+      part.setup = prepare_solve(w.sweep.model, w.sweep.state, part.h, part.force_h, participants, part.resting);
+    StepSolve resolved =
+        solve_step(w.sweep.model, w.sweep.state, *part.setup, participants, part.resting, impacts, &part.islands);
     tally(resolved, report);
     motion.squeezed = resolved.infeasible;
     contacts = std::move(resolved.solved);
@@ -190,8 +195,8 @@ void resolve_rounds(const RoundsWorld& w, const std::vector<int>& participants, 
     // Asked only to stop digging in, and it cannot be had: keep the motion.
     if (motion.squeezed && motion.tau >= 1.0) return;
     std::vector<geometry::Pose> next_resolved =
-        candidate_poses(w.sweep.bodies, participants, u_resolved, w.step_start_s + part.elapsed, part.h);
-    keep_motions(w.sweep.bodies, participants, motion.u, motion.next, u_resolved,
+        candidate_poses(w.sweep.model, w.sweep.state, participants, u_resolved, w.step_start_s + part.elapsed, part.h);
+    keep_motions(w.sweep.model, w.sweep.state, participants, motion.u, motion.next, u_resolved,
                  next_resolved);  // (after a cut, the end poses kept there)
     motion.u = std::move(u_resolved);
     motion.next = std::move(next_resolved);

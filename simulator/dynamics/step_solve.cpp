@@ -44,13 +44,13 @@ Eigen::Vector3d gyroscopic_step(const Eigen::Matrix3d& I_W, const Eigen::Vector3
 
 }  // namespace
 
-std::vector<Contact> impact_contacts(const std::vector<RigidBody>& bodies, const ImpactMap& impacts) {
+std::vector<Contact> impact_contacts(const std::vector<BodyState>& state, const ImpactMap& impacts) {
   // Where the CCD found pairs meeting within the step: the material points that meet
   // (fixed in each body at the time of impact) and the normal there, at the current poses.
   std::vector<Contact> contacts;
   for (const auto& [pair, hits] : impacts) {
-    const RigidBody& a = bodies[pair.first];
-    const RigidBody& b = bodies[pair.second];
+    const BodyState& a = state.at(pair.first);
+    const BodyState& b = state.at(pair.second);
     for (const ImpactPoint& hit : hits) {
       collision::ManifoldPoint p;
       p.point_A_W = a.X_WB * hit.point_A_B;
@@ -63,55 +63,60 @@ std::vector<Contact> impact_contacts(const std::vector<RigidBody>& bodies, const
   return contacts;
 }
 
-SolveSetup prepare_solve(const std::vector<RigidBody>& bodies, const WorldOptions& options, double h, double force_h,
+SolveSetup prepare_solve(const WorldModel& model, const std::vector<BodyState>& state, double h, double force_h,
                          const std::vector<int>& participants, const std::vector<Contact>& resting) {
-  step_helpers::require_participants("prepare_solve", participants, bodies.size());
+  step_helpers::require_model("prepare_solve", model, state);
+  step_helpers::require_participants("prepare_solve", participants, state.size());
   SolveSetup setup;
   setup.h = h;
   setup.warm_h_s = force_h > 0 ? h : 0.0;
   setup.unknown_of_slot.assign(participants.size(), -1);
   for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = bodies[participants[s]];
-    if (!body.is_dynamic()) continue;
+    const BodyModel& body = model.bodies[participants[s]];
+    const BodyState& now = state[participants[s]];
+    if (!moves(body, now)) continue;
     setup.unknown_of_slot[s] = static_cast<int>(setup.u_unconstrained.size());
     setup.slot_of_unknown.push_back(static_cast<int>(s));
     setup.body_of_unknown.push_back(participants[s]);
     BodyInertia in;
     in.inverse_mass_1_kg = 1.0 / body.mass.mass_kg;
-    in.inverse_inertia_W = body.inverse_inertia_W();
-    in.com_W = body.com_W();
+    in.inverse_inertia_W = inverse_inertia_W(body, now);
+    in.com_W = com_W(body, now);
     setup.inertia.push_back(in);
     // Unconstrained: gravity, and the gyroscopic term I dw/dt = -w x I w, implicitly.
     BodyVelocity v;
-    v.v_WBcm_m_s = body.v_WBcm_m_s + force_h * options.gravity_m_s2;
-    v.w_WB_rad_s = gyroscopic_step(body.inertia_W(), body.w_WB_rad_s, force_h);
+    v.v_WBcm_m_s = now.v_WBcm_m_s + force_h * model.options.gravity_m_s2;
+    v.w_WB_rad_s = gyroscopic_step(inertia_W(body, now), now.w_WB_rad_s, force_h);
     setup.u_unconstrained.push_back(v);
   }
   setup.resting_rows.reserve(resting.size());
   for (const Contact& c : resting) {
-    setup.resting_rows.push_back(contact_row(bodies, options, c, setup, participants));
+    setup.resting_rows.push_back(contact_row(model, state, c, setup, participants));
     setup.deepest_m = std::max(setup.deepest_m, -c.feature.distance_m);
   }
   return setup;
 }
 
-ContactRow contact_row(const std::vector<RigidBody>& bodies, const WorldOptions& options, const Contact& c,
+ContactRow contact_row(const WorldModel& model, const std::vector<BodyState>& state, const Contact& c,
                        const SolveSetup& setup, const std::vector<int>& participants) {
+  const WorldOptions& options = model.options;
   const auto unknown = [&](int body) {
     const int slot = slot_of(participants, body);
     return slot < 0 ? -1 : setup.unknown_of_slot[slot];
   };
   const double h = setup.h;
-  const RigidBody& a = bodies[c.body_a];
-  const RigidBody& b = bodies[c.body_b];
+  const BodyModel& a = model.bodies.at(c.body_a);
+  const BodyModel& b = model.bodies.at(c.body_b);
+  const BodyState& sa = state.at(c.body_a);
+  const BodyState& sb = state.at(c.body_b);
   ContactRow row;
   row.body_a = unknown(c.body_a);
   row.body_b = unknown(c.body_b);
   row.normal_W = c.feature.normal_W;
   row.point_W = row_point(c.feature);
   // The non-dynamic bodies' point velocities (a dynamic body's are unknowns of the solve).
-  const Eigen::Vector3d v_a = a.is_dynamic() ? Eigen::Vector3d::Zero() : a.velocity_of_point(row.point_W);
-  const Eigen::Vector3d v_b = b.is_dynamic() ? Eigen::Vector3d::Zero() : b.velocity_of_point(row.point_W);
+  const Eigen::Vector3d v_a = moves(a, sa) ? Eigen::Vector3d::Zero() : velocity_of_point(a, sa, row.point_W);
+  const Eigen::Vector3d v_b = moves(b, sb) ? Eigen::Vector3d::Zero() : velocity_of_point(b, sb, row.point_W);
   row.known_normal_velocity_m_s = -row.normal_W.dot(v_a) + row.normal_W.dot(v_b);
   const Eigen::Vector3d known_W = v_b - v_a;
   row.known_tangent_velocity_W_m_s = known_W - row.normal_W.dot(known_W) * row.normal_W;
@@ -121,7 +126,8 @@ ContactRow contact_row(const std::vector<RigidBody>& bodies, const WorldOptions&
   // An impact: closing fast enough to bounce and, at that speed, meeting within h.
   // The bounce then happens at the step boundary, as the velocity update of a
   // symplectic Euler step, which keeps an elastic ball's apex.
-  const double approach = row.normal_W.dot(b.velocity_of_point(row.point_W) - a.velocity_of_point(row.point_W));
+  const double approach =
+      row.normal_W.dot(velocity_of_point(b, sb, row.point_W) - velocity_of_point(a, sa, row.point_W));
   if (approach < -options.restitution_threshold_m_s && -approach * h >= gap - options.contact_gap_m)
     row.min_normal_velocity_m_s =
         std::max(row.min_normal_velocity_m_s, -std::max(a.restitution, b.restitution) * approach);
@@ -132,14 +138,14 @@ ContactRow contact_row(const std::vector<RigidBody>& bodies, const WorldOptions&
   return row;
 }
 
-StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                     const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
-                     const std::vector<Contact>& resting, const ImpactMap& impacts, SolvedIslands* memo) {
-  step_helpers::require_size("solve_step", "radius_m", radius_m.size(), bodies.size());
+StepSolve solve_step(const WorldModel& model, const std::vector<BodyState>& state, const SolveSetup& setup,
+                     const std::vector<int>& participants, const std::vector<Contact>& resting,
+                     const ImpactMap& impacts, SolvedIslands* memo) {
+  step_helpers::require_model("solve_step", model, state);
   step_helpers::require_size("solve_step", "setup (its participants)", setup.unknown_of_slot.size(),
                              participants.size());
   StepSolve out;
-  const std::vector<Contact> meeting = impact_contacts(bodies, impacts);
+  const std::vector<Contact> meeting = impact_contacts(state, impacts);
   out.solved.reserve(resting.size() + meeting.size());
   out.solved.insert(out.solved.end(), resting.begin(), resting.end());
   out.solved.insert(out.solved.end(), meeting.begin(), meeting.end());
@@ -147,14 +153,14 @@ StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<dou
   std::vector<ContactRow> rows;
   rows.reserve(out.solved.size());
   rows.insert(rows.end(), setup.resting_rows.begin(), setup.resting_rows.end());
-  for (const Contact& c : meeting) rows.push_back(contact_row(bodies, options, c, setup, participants));
+  for (const Contact& c : meeting) rows.push_back(contact_row(model, state, c, setup, participants));
   // The resting contacts' overlaps only: a meeting's material points, taken at the start
   // poses, say how they will meet, not that they overlap (a turning pair's can be half a
   // millimetre "deep" there while nothing overlaps at any time).
   out.deepest_resting_m = setup.deepest_m;
   const ContactSolveResult result =
-      solve_contacts(setup.inertia, u, rows, options.solver, memo, &setup.body_of_unknown);
-  out.launches_prevented = guard_launches(bodies, radius_m, options, setup, participants, rows, u);
+      solve_contacts(setup.inertia, u, rows, model.options.solver, memo, &setup.body_of_unknown);
+  out.launches_prevented = guard_launches(model, state, setup, participants, rows, u);
   out.kkt_residual_m_s = result.kkt_residual_m_s;
   out.infeasible = result.infeasible;
   out.iterative_islands = result.iterative_islands;
@@ -168,9 +174,10 @@ StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<dou
   return out;
 }
 
-int guard_launches(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                   const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
-                   const std::vector<ContactRow>& rows, std::vector<BodyVelocity>& u) {
+int guard_launches(const WorldModel& model, const std::vector<BodyState>& state, const SolveSetup& setup,
+                   const std::vector<int>& participants, const std::vector<ContactRow>& rows,
+                   std::vector<BodyVelocity>& u) {
+  const WorldOptions& options = model.options;
   step_helpers::require_size("guard_launches", "u", u.size(), setup.u_unconstrained.size());
   // The speed a body's energy gives it, sqrt(|v|^2 + w.I.w / m), not its point speed
   // |v| + |w| r: an off-centre impact rightly turns a fall into a spin whose point speed
@@ -182,13 +189,14 @@ int guard_launches(const std::vector<RigidBody>& bodies, const std::vector<doubl
     if (row.body_a >= 0 && row.body_b >= 0) island.join(row.body_a, row.body_b);
   }
   std::vector<double> radius(u.size(), 0.0), island_speed(u.size(), 0.0);
-  for (std::size_t k = 0; k < u.size(); ++k) radius[k] = radius_m[participants[setup.slot_of_unknown[k]]];
+  for (std::size_t k = 0; k < u.size(); ++k) radius[k] = model.radius_m[participants[setup.slot_of_unknown[k]]];
   const auto point_speed = [&](const BodyVelocity& v, std::size_t k) {
     return v.v_WBcm_m_s.norm() + v.w_WB_rad_s.norm() * radius[k];
   };
   const auto energy_speed = [&](const BodyVelocity& v, std::size_t k) {
-    const RigidBody& body = bodies[setup.body_of_unknown[k]];
-    const double turning = v.w_WB_rad_s.dot(body.inertia_W() * v.w_WB_rad_s) / body.mass.mass_kg;
+    const int i = setup.body_of_unknown[k];
+    const double turning =
+        v.w_WB_rad_s.dot(inertia_W(model.bodies[i], state[i]) * v.w_WB_rad_s) / model.bodies[i].mass.mass_kg;
     return std::sqrt(v.v_WBcm_m_s.squaredNorm() + std::max(0.0, turning));
   };
   for (std::size_t k = 0; k < u.size(); ++k) {

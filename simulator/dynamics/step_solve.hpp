@@ -8,8 +8,7 @@
 
 #include "simulator/dynamics/contact.hpp"
 #include "simulator/dynamics/contact_solver.hpp"
-#include "simulator/dynamics/rigid_body.hpp"
-#include "simulator/dynamics/world_options.hpp"
+#include "simulator/dynamics/world_model.hpp"
 
 namespace arphys::dynamics {
 
@@ -28,21 +27,21 @@ struct SolveSetup {
   double deepest_m = 0;  // deepest overlap among the resting contacts
 };
 
-// bodies: every body of the world (contacts and participants index it); participants:
+// model, state: every body of the world (contacts and participants index them); participants:
 // sorted body indices. h: the time left in the step; force_h: the time over which gravity
 // and the gyroscopic term act in this solve (the whole step in its first solve, 0 after a
 // cut).
-SolveSetup prepare_solve(const std::vector<RigidBody>& bodies, const WorldOptions& options, double h, double force_h,
+SolveSetup prepare_solve(const WorldModel& model, const std::vector<BodyState>& state, double h, double force_h,
                          const std::vector<int>& participants, const std::vector<Contact>& resting);
 
 // A contact's constraint row for a solve over setup.h: close at most to the resting gap,
 // undo an overlap at up to the depenetration speed, bounce with the pair's restitution
 // when it closes fast enough to meet within h, and keep the contact's own lower bound.
-ContactRow contact_row(const std::vector<RigidBody>& bodies, const WorldOptions& options, const Contact& contact,
+ContactRow contact_row(const WorldModel& model, const std::vector<BodyState>& state, const Contact& contact,
                        const SolveSetup& setup, const std::vector<int>& participants);
 
 // The meetings the CCD found, as contacts at the bodies' current poses.
-std::vector<Contact> impact_contacts(const std::vector<RigidBody>& bodies, const ImpactMap& impacts);
+std::vector<Contact> impact_contacts(const std::vector<BodyState>& state, const ImpactMap& impacts);
 
 // What a solve gave: velocities by participant (non-dynamic ones zero), the contacts it
 // solved (the resting ones, then the meetings') with their impulses, and its figures.
@@ -56,10 +55,9 @@ struct StepSolve {
   int launches_prevented = 0;
   double deepest_resting_m = 0;  // the setup's: the resting contacts' overlaps only
 };
-// radius_m: each body's bounding radius about its origin (the launch guard's point speeds).
-StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                     const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
-                     const std::vector<Contact>& resting, const ImpactMap& impacts, SolvedIslands* memo);
+StepSolve solve_step(const WorldModel& model, const std::vector<BodyState>& state, const SolveSetup& setup,
+                     const std::vector<int>& participants, const std::vector<Contact>& resting,
+                     const ImpactMap& impacts, SolvedIslands* memo);
 
 // The launch guard. Contacts are passive: with restitution <= 1 a solve can at most reverse
 // (and pass on) the fastest motion among the bodies it couples, plus what moving
@@ -67,9 +65,9 @@ StepSolve solve_step(const std::vector<RigidBody>& bodies, const std::vector<dou
 // twice that, by the speed of its kinetic energy, or with points faster than
 // options.max_body_speed_m_s, is slowed to the bound; one left non-finite takes its
 // unconstrained velocity. Returns how many were.
-int guard_launches(const std::vector<RigidBody>& bodies, const std::vector<double>& radius_m,
-                   const WorldOptions& options, const SolveSetup& setup, const std::vector<int>& participants,
-                   const std::vector<ContactRow>& rows, std::vector<BodyVelocity>& u);
+int guard_launches(const WorldModel& model, const std::vector<BodyState>& state, const SolveSetup& setup,
+                   const std::vector<int>& participants, const std::vector<ContactRow>& rows,
+                   std::vector<BodyVelocity>& u);
 
 // Adds a solve's figures to the step's report.
 void tally(const StepSolve& solve, StepReport& report);

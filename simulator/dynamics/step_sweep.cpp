@@ -41,15 +41,16 @@ struct PairSweep {
 double motion_change_m(const SweepWorld& w, int body, const geometry::Pose& swept_to,
                        const geometry::ScrewMotion& now) {
   if (swept_to.matrix() == now.end().matrix()) return 0;
-  return geometry::motion_change_bound_m(geometry::ScrewMotion(w.bodies[body].X_WB, swept_to), now, w.radius_m[body]);
+  return geometry::motion_change_bound_m(geometry::ScrewMotion(w.state[body].X_WB, swept_to), now,
+                                         w.model.radius_m[body]);
 }
 
 // For a mesh pair the CCD found touching at the start, or one resting and moving less than
 // the contact tolerance (not swept): whether its surfaces cross at the end of the motion; if
 // so, the fraction of the motion before they do (query.free_until) and the features
 // touching there (query.hits).
-void check_mesh_crossing(const WorldOptions& options, const RigidBody& a, const geometry::ScrewMotion& motion_a,
-                         const RigidBody& b, const geometry::ScrewMotion& motion_b, double relative_motion_m,
+void check_mesh_crossing(const WorldOptions& options, const BodyModel& a, const geometry::ScrewMotion& motion_a,
+                         const BodyModel& b, const geometry::ScrewMotion& motion_b, double relative_motion_m,
                          CachedImpact& query, collision::NearbyTrianglePairs* nearby) {
   // A mesh's manifold cannot say how deep a point went (its distances are unsigned), and
   // the CCD, touching at the start, times nothing after it; whether the surfaces cross it
@@ -83,8 +84,10 @@ void check_mesh_crossing(const WorldOptions& options, const RigidBody& a, const 
 void classify_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>& participants,
                     double relative_motion_m, double curve_m, const std::vector<BodyPair>* resting_pairs) {
   const int i = participants[sweep.p], j = participants[sweep.q];
-  const RigidBody& a = w.bodies[i];
-  const RigidBody& b = w.bodies[j];
+  const BodyModel& a = w.model.bodies[i];
+  const BodyModel& b = w.model.bodies[j];
+  const geometry::Pose& X_WA = w.state[i].X_WB;
+  const geometry::Pose& X_WB = w.state[j].X_WB;
   sweep.relative_motion_m = relative_motion_m;
   // A resting pair (constraints of the step already) whose points move less than
   // max_unswept_motion_m relative to each other is held by its contacts, and its motion
@@ -95,16 +98,16 @@ void classify_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int
   // Primitives are checked by their manifolds, which measure depth exactly; a mesh pair by
   // whether its surfaces cross at the end (check_mesh_crossing), so only when the contacts
   // found it apart at these start poses (a mesh's manifold can miss a vertex that went in).
-  const auto primitive = [](const RigidBody& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
+  const auto primitive = [](const BodyModel& body) { return body.shape.type() != collision::Shape::Type::kMesh; };
   sweep.apart_at_start =
-      MeshCrossingMemo::known_apart(w.memo.apart_at, i, j, a.X_WB, b.X_WB);  // (i < j: participants are sorted)
+      MeshCrossingMemo::known_apart(w.memo.apart_at, i, j, X_WA, X_WB);  // (i < j: participants are sorted)
   sweep.resting_slowly = resting_pairs && ((primitive(a) && primitive(b)) || sweep.apart_at_start) &&
-                         relative_motion_m <= max_unswept_motion_m(w.options, a, b) &&
+                         relative_motion_m <= max_unswept_motion_m(w.model.options, a, b) &&
                          std::binary_search(resting_pairs->begin(), resting_pairs->end(), std::make_pair(i, j));
   // Two bodies whose bounding boxes are further apart at the start than their points
   // move relative to each other cannot meet in the step (in a tumbling pile, most of
   // the pairs whose swept boxes overlap): proven without building their motions.
-  const bool far_apart = !sweep.resting_slowly && collision::gap_lower_bound_m(a.shape, a.X_WB, b.shape, b.X_WB) >
+  const bool far_apart = !sweep.resting_slowly && collision::gap_lower_bound_m(a.shape, X_WA, b.shape, X_WB) >
                                                       relative_motion_m + curve_m + kGapRounding_m;
   sweep.swept_by_ccd = !sweep.resting_slowly && !far_apart;
 }
@@ -112,19 +115,20 @@ void classify_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int
 void answer_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>& participants,
                   const std::vector<geometry::Pose>& next, const geometry::ScrewMotion& motion_A,
                   const geometry::ScrewMotion& motion_B) {
-  const RigidBody& a = w.bodies[participants[sweep.p]];
-  const RigidBody& b = w.bodies[participants[sweep.q]];
+  const int i = participants[sweep.p], j = participants[sweep.q];
+  const BodyModel& a = w.model.bodies[i];
+  const BodyModel& b = w.model.bodies[j];
   const geometry::Pose& next_A = next[sweep.p];
   const geometry::Pose& next_B = next[sweep.q];
   CachedImpact& query = *sweep.query;
-  collision::ContinuousOptions ccd = w.options.ccd;
+  collision::ContinuousOptions ccd = w.model.options.ccd;
   ccd.apart_at_start = sweep.apart_at_start;
   // Pieces that touch at the start and move too little to pass through each other are
   // checked at the end, as a resting pair is (the advancement stalls on them); their
   // bounce, if any, is solved at the next step's start (below
   // sequential_bounce_restitution, as for a bounce a solve brings about).
-  if (depth_measured(a, b) && std::max(a.restitution, b.restitution) <= w.options.sequential_bounce_restitution)
-    ccd.touching_unswept_m = w.options.contact_tolerance_m;
+  if (depth_measured(a, b) && std::max(a.restitution, b.restitution) <= w.model.options.sequential_bounce_restitution)
+    ccd.touching_unswept_m = w.model.options.contact_tolerance_m;
   const double start_depth_m = query.start_depth_m;  // (-1 for a pair not asked before)
   query = {true,
            next_A,
@@ -155,12 +159,12 @@ void answer_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>&
   query.hits.clear();
   if (!depth_measured(a, b)) return;
   const double start_depth = query.start_depth_m =
-      start_depth_m >= 0 ? start_depth_m : deepest_overlap(a, a.X_WB, b, b.X_WB);
+      start_depth_m >= 0 ? start_depth_m : deepest_overlap(a, w.state[i].X_WB, b, w.state[j].X_WB);
   // (A tenth of the tolerance over the start depth keeps a pair that rounding deepens by
   // nanometres from being cut into ever smaller steps, in which the depenetration speed
   // can no longer undo anything.)
   const double allowed = query.allowed_depth_m =
-      std::max(start_depth + 0.1 * w.options.overlap_tolerance_m, w.options.overlap_tolerance_m);
+      std::max(start_depth + 0.1 * w.model.options.overlap_tolerance_m, w.model.options.overlap_tolerance_m);
   for (const auto& point : collision::contact_manifold(a.shape, next_A, b.shape, next_B, 0.0)) {
     if (-point.distance_m <= allowed) continue;
     query.hits.push_back({next_A.inverse() * point.point_A_W, next_B.inverse() * point.point_B_W,
@@ -173,8 +177,8 @@ void finish_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>&
                   const std::vector<geometry::Pose>& next, const geometry::ScrewMotion& motion_A,
                   const geometry::ScrewMotion& motion_B, Sweep& out) {
   const int i = participants[sweep.p], j = participants[sweep.q];
-  const RigidBody& a = w.bodies[i];
-  const RigidBody& b = w.bodies[j];
+  const BodyModel& a = w.model.bodies[i];
+  const BodyModel& b = w.model.bodies[j];
   CachedImpact& query = *sweep.query;
   const collision::ContinuousResult& r = query.result;
   if (sweep.swept_by_ccd) ++out.ccd_queries;
@@ -183,7 +187,8 @@ void finish_sweep(const SweepWorld& w, PairSweep& sweep, const std::vector<int>&
   if (query.swept && !r.collides) w.memo.apart_at_end[{i, j}] = {next[sweep.p], next[sweep.q]};
   if (!sweep.resting_slowly && !touching_at_start(r)) return;
   if (r.features.kind != collision::FeaturePair::kOverlapAtStart) {
-    check_mesh_crossing(w.options, a, motion_A, b, motion_B, sweep.relative_motion_m, query, w.memo.nearby_pairs(i, j));
+    check_mesh_crossing(w.model.options, a, motion_A, b, motion_B, sweep.relative_motion_m, query,
+                        w.memo.nearby_pairs(i, j));
     if (query.free_until == 1) w.memo.apart_at_end[{i, j}] = {next[sweep.p], next[sweep.q]};
   }
   query.deepens = !query.hits.empty() || query.free_until < 1;
@@ -202,10 +207,10 @@ MotionReach motion_reach(const SweepWorld& w, const std::vector<int>& participan
   MotionReach out{std::vector<Eigen::Vector3d>(participants.size()), std::vector<double>(participants.size()),
                   std::vector<double>(participants.size())};
   for (std::size_t s = 0; s < participants.size(); ++s) {
-    const RigidBody& body = w.bodies[participants[s]];
-    out.shift[s] = next[s].translation() - body.X_WB.translation();
-    const double angle = Eigen::AngleAxisd(next[s].linear() * body.X_WB.linear().transpose()).angle();
-    out.turn[s] = angle > 0 ? angle * w.radius_m[participants[s]] : 0.0;
+    const geometry::Pose& X_WB = w.state[participants[s]].X_WB;
+    out.shift[s] = next[s].translation() - X_WB.translation();
+    const double angle = Eigen::AngleAxisd(next[s].linear() * X_WB.linear().transpose()).angle();
+    out.turn[s] = angle > 0 ? angle * w.model.radius_m[participants[s]] : 0.0;
     out.curve[s] = angle > 0 ? angle * out.shift[s].norm() : 0.0;
   }
   return out;
@@ -213,18 +218,18 @@ MotionReach motion_reach(const SweepWorld& w, const std::vector<int>& participan
 
 }  // namespace
 
-Eigen::AlignedBox3d swept_box(const RigidBody& body, double radius_m, const geometry::Pose& next) {
-  return collision::swept_bounds(geometry::ScrewMotion(body.X_WB, next), Eigen::Vector3d::Zero(), radius_m);
+Eigen::AlignedBox3d swept_box(const geometry::Pose& X_WB, double radius_m, const geometry::Pose& next) {
+  return collision::swept_bounds(geometry::ScrewMotion(X_WB, next), Eigen::Vector3d::Zero(), radius_m);
 }
 
-double deepest_overlap(const RigidBody& a, const geometry::Pose& X_WA, const RigidBody& b, const geometry::Pose& X_WB) {
+double deepest_overlap(const BodyModel& a, const geometry::Pose& X_WA, const BodyModel& b, const geometry::Pose& X_WB) {
   double deepest = 0;
   for (const auto& point : collision::contact_manifold(a.shape, X_WA, b.shape, X_WB, 0.0))
     deepest = std::max(deepest, -point.distance_m);
   return deepest;
 }
 
-double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, const RigidBody& b) {
+double max_unswept_motion_m(const WorldOptions& options, const BodyModel& a, const BodyModel& b) {
   // Two kinds of pair keep to the contact tolerance: a mesh's, whose thinnest part is not known (a bunny's ear, a cup's
   // wall); and a bouncing one's, because what the end check finds is held, not bounced (a point that starts within the
   // tolerance is a contact row, which bounces; with motion below it, nothing from further away can reach).
@@ -233,7 +238,7 @@ double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, con
     return std::min(options.resting_unswept_motion_m, options.contact_tolerance_m);
   // A point moving less than a quarter of a body's thickness cannot pass through it: it
   // ends outside, or inside on its own side, where the end check finds it.
-  const auto half_thickness_m = [](const RigidBody& body) {
+  const auto half_thickness_m = [](const BodyModel& body) {
     switch (body.shape.type()) {
       case collision::Shape::Type::kBox:
         return 0.5 * body.shape.size_m().minCoeff();
@@ -251,15 +256,15 @@ double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, con
 Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, const std::vector<geometry::Pose>& next,
                     const std::vector<BodyPair>* resting_pairs, ImpactCache* cache, ImpactMap* meeting,
                     const std::vector<BodyPair>* swept_pairs) {
-  step_helpers::require_participants("sweep_motions", participants, w.bodies.size());
-  step_helpers::require_size("sweep_motions", "radius_m", w.radius_m.size(), w.bodies.size());
+  step_helpers::require_model("sweep_motions", w.model, w.state);
+  step_helpers::require_participants("sweep_motions", participants, w.state.size());
   step_helpers::require_size("sweep_motions", "next", next.size(), participants.size());
   std::vector<std::pair<int, int>> own;
   if (!swept_pairs) {
     std::vector<Eigen::AlignedBox3d> swept;
     swept.reserve(participants.size());
     for (std::size_t s = 0; s < participants.size(); ++s)
-      swept.push_back(swept_box(w.bodies[participants[s]], w.radius_m[participants[s]], next[s]));
+      swept.push_back(swept_box(w.state[participants[s]].X_WB, w.model.radius_m[participants[s]], next[s]));
     own = collision::overlapping_pairs(swept);
   }
   const MotionReach reach = motion_reach(w, participants, next);
@@ -269,7 +274,7 @@ Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, c
   // in a dozen pairs).
   std::vector<std::optional<geometry::ScrewMotion>> motions(participants.size());
   const auto motion_of = [&](int slot) -> const geometry::ScrewMotion& {
-    if (!motions[slot]) motions[slot].emplace(w.bodies[participants[slot]].X_WB, next[slot]);
+    if (!motions[slot]) motions[slot].emplace(w.state[participants[slot]].X_WB, next[slot]);
     return *motions[slot];
   };
   // The pairs come in the cache's order: a pair's entry is usually the one after the
@@ -295,16 +300,16 @@ Sweep sweep_motions(const SweepWorld& w, const std::vector<int>& participants, c
   uncached.reserve(cache ? 0 : pairs.size());
   for (const auto& [p, q] : pairs) {
     const int i = participants[p], j = participants[q];
-    const RigidBody& a = w.bodies[i];
-    const RigidBody& b = w.bodies[j];
-    if (!a.is_dynamic() && !b.is_dynamic()) continue;
+    const BodyModel& a = w.model.bodies[i];
+    const BodyModel& b = w.model.bodies[j];
+    if (!moves(a, w.state[i]) && !moves(b, w.state[j])) continue;
     if (a.shape.type() == collision::Shape::Type::kPlane && b.shape.type() == collision::Shape::Type::kPlane) continue;
     // Resting pairs barely move relative to each other: a relative motion below half
     // the resting gap cannot close it, so the CCD query is skipped (a pile of boxes is
     // almost all such pairs). The price: a pair closer than that may end up to half
     // the gap (0.5 um) inside each other.
     const double relative_motion_m = (shift[q] - shift[p]).norm() + turn[p] + turn[q];
-    if (relative_motion_m < 0.5 * w.options.contact_gap_m) continue;
+    if (relative_motion_m < 0.5 * w.model.options.contact_gap_m) continue;
     // A re-solve changes the motions of the island it touches only; every other pair's
     // motions, and so its answer, are as in the last round.
     CachedImpact& query = cache ? cached(i, j) : uncached.emplace_back();

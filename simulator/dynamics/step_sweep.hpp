@@ -10,10 +10,9 @@
 
 #include "simulator/collision/continuous_query.hpp"
 #include "simulator/dynamics/contact.hpp"
-#include "simulator/dynamics/rigid_body.hpp"
 #include "simulator/dynamics/step_contacts.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
-#include "simulator/dynamics/world_options.hpp"
+#include "simulator/dynamics/world_model.hpp"
 
 namespace arphys::dynamics {
 
@@ -34,12 +33,11 @@ struct CachedImpact {
 };
 using ImpactCache = std::map<BodyPair, CachedImpact>;
 
-// What a sweep reads of the world (every body, indexed as participants name them, and each
-// one's bounding radius about its origin), the memo it records mesh pairs in, its threads.
+// What a sweep reads of the world (every body, indexed as participants name them), the memo
+// it records mesh pairs in, its threads.
 struct SweepWorld {
-  const std::vector<RigidBody>& bodies;
-  const std::vector<double>& radius_m;
-  const WorldOptions& options;
+  const WorldModel& model;
+  const std::vector<BodyState>& state;
   MeshCrossingMemo& memo;
   const WorkerPool& pool;
 };
@@ -63,12 +61,12 @@ Sweep sweep_motions(const SweepWorld& world, const std::vector<int>& participant
                     ImpactCache* cache, ImpactMap* meeting, const std::vector<BodyPair>* swept_pairs = nullptr);
 
 // Box containing a body's bounding ball (radius_m about its origin) along its screw motion
-// to `next`.
-Eigen::AlignedBox3d swept_box(const RigidBody& body, double radius_m, const geometry::Pose& next);
+// from X_WB to `next`.
+Eigen::AlignedBox3d swept_box(const geometry::Pose& X_WB, double radius_m, const geometry::Pose& next);
 // How deep bodies a and b are inside each other at these poses (0: apart).
-double deepest_overlap(const RigidBody& a, const geometry::Pose& X_WA, const RigidBody& b, const geometry::Pose& X_WB);
+double deepest_overlap(const BodyModel& a, const geometry::Pose& X_WA, const BodyModel& b, const geometry::Pose& X_WB);
 // The relative motion under which a resting pair is checked at the end of its motion
 // instead of swept (WorldOptions::resting_unswept_motion_m, capped by the pair's shapes).
-double max_unswept_motion_m(const WorldOptions& options, const RigidBody& a, const RigidBody& b);
+double max_unswept_motion_m(const WorldOptions& options, const BodyModel& a, const BodyModel& b);
 
 }  // namespace arphys::dynamics

@@ -24,7 +24,7 @@ using step_helpers::pairs_of;
 using step_helpers::row_point;
 
 World::World(WorldOptions options)
-    : options_((check_world_options(options), std::move(options))), pool_(options_.threads) {}
+    : model_{(check_world_options(options), std::move(options)), {}, {}}, pool_(model_.options.threads) {}
 
 int World::add_body(RigidBody body) {
   if (!body.X_WB.matrix().allFinite()) throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite pose");
@@ -41,53 +41,53 @@ int World::add_body(RigidBody body) {
       throw std::invalid_argument("World::add_body: body '" + body.id + "' has a non-finite velocity");
   }
   if (find(body.id) >= 0) throw std::invalid_argument("World::add_body: duplicate body id '" + body.id + "'");
-  radius_m_.push_back(body.bounding_radius_m());
+  model_.radius_m.push_back(body.bounding_radius_m());
   state_.mesh.placed_since_step.push_back(1);
   state_.sleep.placed_to_wake.push_back(0);
   state_.sleep.quiet_s.push_back(0);
-  state_.sleep.asleep.push_back(0);
   state_.sleep.touching.emplace_back();
-  bodies_.push_back(std::move(body));
-  return static_cast<int>(bodies_.size()) - 1;
+  BodyState& added = state_.bodies.emplace_back(std::move(static_cast<BodyState&>(body)));
+  added.asleep = false;
+  model_.bodies.push_back(std::move(static_cast<BodyModel&>(body)));
+  return static_cast<int>(model_.bodies.size()) - 1;
 }
 
 void World::place_body(int index, const geometry::Pose& X_WB) {
-  RigidBody& body = bodies_.at(index);
+  const BodyModel& body = model_.bodies.at(index);
   if (!X_WB.matrix().allFinite()) throw std::invalid_argument("World::place_body: body '" + body.id + "': non-finite pose");
-  body.X_WB = X_WB;
+  state_.bodies[index].X_WB = X_WB;
   state_.mesh.placed_since_step.at(index) = 1;
   state_.sleep.placed_to_wake.at(index) = 1;
   wake({index});
 }
 
 void World::set_velocity(int index, const Eigen::Vector3d& v_WBcm_m_s, const Eigen::Vector3d& w_WB_rad_s) {
-  RigidBody& body = bodies_.at(index);
+  const BodyModel& body = model_.bodies.at(index);
   if (!body.is_dynamic()) throw std::invalid_argument("World::set_velocity: body '" + body.id + "' is not dynamic");
   if (!v_WBcm_m_s.allFinite() || !w_WB_rad_s.allFinite())
     throw std::invalid_argument("World::set_velocity: body '" + body.id + "': non-finite velocity");
-  body.v_WBcm_m_s = v_WBcm_m_s;
-  body.w_WB_rad_s = w_WB_rad_s;
+  state_.bodies[index].v_WBcm_m_s = v_WBcm_m_s;
+  state_.bodies[index].w_WB_rad_s = w_WB_rad_s;
   wake({index});
 }
 
 void World::set_origin_velocity(int index, const Eigen::Vector3d& v_WBo_m_s, const Eigen::Vector3d& w_WB_rad_s) {
-  const RigidBody& body = bodies_.at(index);
-  set_velocity(index, v_WBo_m_s + w_WB_rad_s.cross(body.com_W() - body.X_WB.translation()), w_WB_rad_s);
+  set_velocity(index, com_velocity(model_.bodies.at(index), state_.bodies[index], v_WBo_m_s, w_WB_rad_s), w_WB_rad_s);
 }
 
 void World::set_trajectory(int index, KinematicTrajectory trajectory) {
-  RigidBody& body = bodies_.at(index);
+  const BodyModel& body = model_.bodies.at(index);
   if (body.motion != BodyMotion::kKinematic)
     throw std::invalid_argument("World::set_trajectory: body '" + body.id + "' is not kinematic");
-  body.trajectory = std::move(trajectory);
+  state_.bodies[index].trajectory = std::move(trajectory);
 }
 
 void World::remove_body(int index) {
-  bodies_.erase(bodies_.begin() + index);
-  radius_m_.erase(radius_m_.begin() + index);
+  model_.bodies.erase(model_.bodies.begin() + index);
+  model_.radius_m.erase(model_.radius_m.begin() + index);
+  state_.bodies.erase(state_.bodies.begin() + index);
   state_.sleep.quiet_s.erase(state_.sleep.quiet_s.begin() + index);
   state_.sleep.placed_to_wake.erase(state_.sleep.placed_to_wake.begin() + index);
-  state_.sleep.asleep.erase(state_.sleep.asleep.begin() + index);
   state_.sleep.touching.erase(state_.sleep.touching.begin() + index);
   for (auto& partners : state_.sleep.touching) {
     partners.erase(std::remove(partners.begin(), partners.end(), index), partners.end());
@@ -98,30 +98,38 @@ void World::remove_body(int index) {
   state_.held_back_bounces.clear();
   // (Pair indices shift: every body is tested again rather than the pairs renumbered.)
   state_.mesh = {};
-  state_.mesh.placed_since_step.assign(bodies_.size(), 1);
+  state_.mesh.placed_since_step.assign(model_.bodies.size(), 1);
+}
+
+std::vector<RigidBody> World::body_copies() const {
+  std::vector<RigidBody> all;
+  all.reserve(model_.bodies.size());
+  for (int i = 0; i < body_count(); ++i) all.push_back(body_copy(i));
+  return all;
 }
 
 int World::find(const std::string& id) const {
-  for (int i = 0; i < static_cast<int>(bodies_.size()); ++i)
-    if (bodies_[i].id == id) return i;
+  for (int i = 0; i < static_cast<int>(model_.bodies.size()); ++i)
+    if (model_.bodies[i].id == id) return i;
   return -1;
 }
 
 void World::set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s) {
   for (int i : participants) {
-    RigidBody& body = bodies_[i];
-    if (body.motion != BodyMotion::kKinematic || body.trajectory.empty()) continue;
+    const BodyModel& model = model_.bodies[i];
+    BodyState& body = state_.bodies[i];
+    if (model.motion != BodyMotion::kKinematic || body.trajectory.empty()) continue;
     body.X_WB = body.trajectory.pose_at(t_s);
     if (h_s > 0) {
       // The constant twist that takes it where the trajectory says it is after h (a
       // step can straddle two tracked poses: the instantaneous twist would be wrong).
       const geometry::ScrewMotion screw(body.X_WB, body.trajectory.pose_at(t_s + h_s));
       body.w_WB_rad_s = screw.angular_velocity() / h_s;
-      body.v_WBcm_m_s = screw.velocity_of_point(body.com_W()) / h_s;
+      body.v_WBcm_m_s = screw.velocity_of_point(com_W(model, body)) / h_s;
     } else {
       const Twist twist = body.trajectory.twist_at(t_s);
       body.w_WB_rad_s = twist.w_WB_rad_s;
-      body.v_WBcm_m_s = twist.velocity_of_point(body.com_W(), body.X_WB.translation());
+      body.v_WBcm_m_s = twist.velocity_of_point(com_W(model, body), body.X_WB.translation());
     }
   }
 }
@@ -135,28 +143,28 @@ void World::begin_step_memos() {
 }
 
 World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report) {
-  const int n = static_cast<int>(bodies_.size());
+  const int n = static_cast<int>(model_.bodies.size());
   FirstPass pass;
-  pass.resting = gather_contacts(bodies_, radius_m_, options_, state_.hints, state_.mesh, pool_, everyone,
+  pass.resting = gather_contacts(model_, state_.bodies, state_.hints, state_.mesh, pool_, everyone,
                                  state_.contacts.size() + state_.contacts.size() / 4);
   StepSolve first =
-      solve_step(bodies_, radius_m_, options_, prepare_solve(bodies_, options_, dt_s, dt_s, everyone, pass.resting),
+      solve_step(model_, state_.bodies, prepare_solve(model_, state_.bodies, dt_s, dt_s, everyone, pass.resting),
                  everyone, pass.resting, {}, &pass.islands);
   tally(first, report);
   pass.u = std::move(first.u);
   pass.solved = std::move(first.solved);
-  pass.next = candidate_poses(bodies_, everyone, pass.u, state_.time_s, dt_s);
+  pass.next = candidate_poses(model_, state_.bodies, everyone, pass.u, state_.time_s, dt_s);
   // Groups: dynamic bodies in contact, or whose swept boxes overlap, may meet within the
   // step; bodies of different groups cannot, so each group is stepped on its own, its
   // events cutting only its own step and re-running only its own CCD. (Stepping them all
   // together made every time of impact in a 1000-box pile re-solve and re-sweep all of it.)
   pass.groups = DisjointSets(n);
   const auto join = [&](int i, int j) {
-    if (bodies_[i].is_dynamic() && bodies_[j].is_dynamic()) pass.groups.join(i, j);
+    if (moving(i) && moving(j)) pass.groups.join(i, j);
   };
   for (const Contact& c : pass.resting) join(c.body_a, c.body_b);
   pass.swept.resize(n);
-  for (int i = 0; i < n; ++i) pass.swept[i] = swept_box(bodies_[i], radius_m_[i], pass.next[i]);
+  for (int i = 0; i < n; ++i) pass.swept[i] = swept_box(state_.bodies[i].X_WB, model_.radius_m[i], pass.next[i]);
   const std::vector<std::pair<int, int>> swept_pairs = collision::overlapping_pairs(pass.swept);
   for (const auto& [i, j] : swept_pairs) join(i, j);
   // The first CCD pass, for everything at once (the same pairs the groups would sweep):
@@ -166,7 +174,7 @@ World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone
       sweep_motions(sweep_world(), everyone, pass.next, &resting_pairs, &pass.ccd, nullptr, &swept_pairs).ccd_queries;
   for (const auto& [pair, query] : pass.ccd) {
     if (query.deepens || meets_inside(query.result))
-      pass.eventful.insert(pass.groups.find(bodies_[pair.first].is_dynamic() ? pair.first : pair.second));
+      pass.eventful.insert(pass.groups.find(moving(pair.first) ? pair.first : pair.second));
   }
   return pass;
 }
@@ -174,7 +182,7 @@ World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone
 void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<int>& pending,
                                 const std::vector<int>& dynamic, const std::vector<int>& fixed, GroupStepping& g,
                                 StepReport& report) {
-  const int n = static_cast<int>(bodies_.size());
+  const int n = static_cast<int>(model_.bodies.size());
   const auto root = [&](int i) { return pass.groups.find(i); };
   std::vector<std::pair<int, int>> members;  // (root, body): the pending groups' bodies, in body order
   for (int i : dynamic)
@@ -183,7 +191,7 @@ void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<
   std::vector<std::vector<int>> resting_of(n);  // by root, for the groups stepped on their own
   for (std::size_t k = 0; k < pass.resting.size(); ++k) {
     const Contact& c = pass.resting[k];
-    const int r = root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b);
+    const int r = root(moving(c.body_a) ? c.body_a : c.body_b);
     if (g.stepped[r] || pass.eventful.count(r)) resting_of[r].push_back(static_cast<int>(k));
   }
   for (std::size_t first_member = 0; first_member < members.size();) {
@@ -194,23 +202,23 @@ void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<
     if (g.stepped[r]) {
       // Stepped before, merged since: start again from the step's start (and forget the
       // bounces that pass held back: this one finds its own).
-      const auto in_group = [&](int i) { return bodies_[i].is_dynamic() && root(i) == r; };
+      const auto in_group = [&](int i) { return moving(i) && root(i) == r; };
       state_.held_back_bounces.erase(std::remove_if(state_.held_back_bounces.begin(), state_.held_back_bounces.end(),
                                                     [&](const ContactHints::Bounce& p) {
                                                       return in_group(p.bodies.first) || in_group(p.bodies.second);
                                                     }),
                                      state_.held_back_bounces.end());
       for (int i : bodies) {
-        bodies_[i].X_WB = g.start[i].X_WB;
-        bodies_[i].v_WBcm_m_s = g.start[i].v;
-        bodies_[i].w_WB_rad_s = g.start[i].w;
+        state_.bodies[i].X_WB = g.start[i].X_WB;
+        state_.bodies[i].v_WBcm_m_s = g.start[i].v;
+        state_.bodies[i].w_WB_rad_s = g.start[i].w;
       }
     } else if (!pass.eventful.count(r)) {
       for (int i : bodies) {
         g.moved[i] = pass.swept[i];
-        bodies_[i].X_WB = pass.next[i];
-        bodies_[i].v_WBcm_m_s = pass.u[i].v_WBcm_m_s;
-        bodies_[i].w_WB_rad_s = pass.u[i].w_WB_rad_s;
+        state_.bodies[i].X_WB = pass.next[i];
+        state_.bodies[i].v_WBcm_m_s = pass.u[i].v_WBcm_m_s;
+        state_.bodies[i].w_WB_rad_s = pass.u[i].w_WB_rad_s;
       }
       continue;
     }
@@ -229,7 +237,7 @@ void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<
     g.stepped[r] = 1;
     g.contacts_of[r] = std::move(outcome.contacts);
     for (std::size_t s = 0; s < participants.size(); ++s)
-      if (bodies_[participants[s]].is_dynamic()) g.moved[participants[s]] = outcome.swept[s];
+      if (moving(participants[s])) g.moved[participants[s]] = outcome.swept[s];
   }
 }
 
@@ -268,8 +276,7 @@ void World::keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic,
   state_.contacts.clear();
   for (std::size_t k = 0; k < pass.resting.size(); ++k) {
     const Contact& c = pass.resting[k];
-    if (!g.stepped[root(bodies_[c.body_a].is_dynamic() ? c.body_a : c.body_b)])
-      state_.contacts.push_back(pass.solved[k]);
+    if (!g.stepped[root(moving(c.body_a) ? c.body_a : c.body_b)]) state_.contacts.push_back(pass.solved[k]);
   }
   for (int i : dynamic)
     if (root(i) == i && g.stepped[i])
@@ -287,9 +294,9 @@ void World::keep_step_contacts(FirstPass& pass, const std::vector<int>& dynamic,
   // every contact, they cost a frictionless pile's small exact islands time for nothing).
   state_.hints.warm_forces.clear();
   const bool iterative =
-      options_.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
+      model_.options.solver.kind == ContactSolverKind::kProjectedGaussSeidel || report.iterative_islands > 0;
   for (const Contact& c : pass.solved)
-    if (c.impulse_N_s > 0 && (iterative || combined_friction(bodies_[c.body_a], bodies_[c.body_b]) > 0))
+    if (c.impulse_N_s > 0 && (iterative || combined_friction(model_.bodies[c.body_a], model_.bodies[c.body_b]) > 0))
       state_.hints.warm_forces.push_back(
           {{std::min(c.body_a, c.body_b), std::max(c.body_a, c.body_b)}, row_point(c.feature), c.impulse_W_N_s / dt_s});
   std::sort(state_.hints.warm_forces.begin(), state_.hints.warm_forces.end(),
@@ -300,20 +307,12 @@ StepReport World::step(double dt_s) {
   if (!(dt_s > 0) || !std::isfinite(dt_s))
     throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
   StepReport report;
-  const int n = static_cast<int>(bodies_.size());
+  const int n = static_cast<int>(model_.bodies.size());
   std::vector<int> everyone(n), fixed, dynamic;
   std::iota(everyone.begin(), everyone.end(), 0);
   set_kinematic_state(everyone, state_.time_s, dt_s);
-  const std::vector<int> held = options_.sleep_after_s > 0 ? hold_sleepers(dt_s) : std::vector<int>();
-  // (Should anything below throw, the sleepers are not left static.)
-  struct Release {
-    std::vector<RigidBody>& bodies;
-    const std::vector<int>& held;
-    ~Release() {
-      for (int i : held) bodies[i].motion = BodyMotion::kDynamic;
-    }
-  } release{bodies_, held};
-  for (int i = 0; i < n; ++i) (bodies_[i].is_dynamic() ? dynamic : fixed).push_back(i);
+  if (model_.options.sleep_after_s > 0) hold_sleepers(dt_s);
+  for (int i = 0; i < n; ++i) (moving(i) ? dynamic : fixed).push_back(i);
   begin_step_memos();
   FirstPass pass = first_pass(dt_s, everyone, report);
   // Each group stepped (or just moved), then again any whose motion reached into another's
@@ -321,7 +320,7 @@ StepReport World::step(double dt_s) {
   // left the sweep it was grouped by.)
   GroupStepping g{std::vector<GroupStepping::State>(n), std::vector<Eigen::AlignedBox3d>(n), std::vector<char>(n, 0),
                   std::vector<std::vector<Contact>>(n)};
-  for (int i : dynamic) g.start[i] = {bodies_[i].X_WB, bodies_[i].v_WBcm_m_s, bodies_[i].w_WB_rad_s};
+  for (int i : dynamic) g.start[i] = {state_.bodies[i].X_WB, state_.bodies[i].v_WBcm_m_s, state_.bodies[i].w_WB_rad_s};
   std::vector<int> pending;
   for (int i : dynamic)
     if (pass.groups.find(i) == i) pending.push_back(i);
@@ -331,10 +330,10 @@ StepReport World::step(double dt_s) {
     pending = reaching_groups(pass, dynamic, g);
   }
   keep_step_contacts(pass, dynamic, g, dt_s, report);
-  if (options_.sleep_after_s > 0) end_sleep_step(held, dt_s, report);
+  if (model_.options.sleep_after_s > 0) end_sleep_step(dt_s, report);
   state_.time_s += dt_s;
-  state_.mesh.placed_since_step.assign(bodies_.size(), 0);
-  state_.sleep.placed_to_wake.assign(bodies_.size(), 0);
+  state_.mesh.placed_since_step.assign(n, 0);
+  state_.sleep.placed_to_wake.assign(n, 0);
   set_kinematic_state(everyone, state_.time_s, 0.0);
   report.mesh_crossing_tests = state_.mesh.crossing_tests;
   return report;

@@ -1,6 +1,7 @@
 #pragma once
-// The simulated world: bodies, and the time stepping of docs/method.md section 2 driven by
-// the CCD of section 1 (docs/dynamics.md, "The step"). A step finds the contacts
+// The simulated world, as a model that is fixed once a body is added (world_model.hpp) and a
+// state that stepping changes (world_state.hpp), and the time stepping of docs/method.md
+// section 2 driven by the CCD of section 1 (docs/dynamics.md, "The step"). A step finds the contacts
 // (step_contacts.hpp), solves for the velocities by Gauss's principle (step_solve.hpp) and
 // sweeps the motions that gives (step_sweep.hpp), all bodies at once; bodies that may meet
 // within the step form groups, and a group whose motion meets something, or leaves a touching
@@ -21,6 +22,7 @@
 #include "simulator/dynamics/step_solve.hpp"
 #include "simulator/dynamics/step_sweep.hpp"
 #include "simulator/dynamics/worker_pool.hpp"
+#include "simulator/dynamics/world_model.hpp"
 #include "simulator/dynamics/world_options.hpp"
 #include "simulator/dynamics/world_state.hpp"
 
@@ -37,12 +39,22 @@ class World {
   StepReport step(double dt_s);
 
   double time_s() const { return state_.time_s; }
-  const std::vector<RigidBody>& bodies() const { return bodies_; }
-  bool asleep(int index) const { return state_.sleep.asleep.at(index) != 0; }
-  // A body's shape, mass and material are fixed once it is added; its state changes by
-  // stepping and by the calls below, each of which throws std::invalid_argument naming the
-  // body for a value it cannot take.
-  const RigidBody& body(int index) const { return bodies_.at(index); }
+  int body_count() const { return static_cast<int>(model_.bodies.size()); }
+  // What the world is made of: options and each body's shape, mass, material and motion,
+  // fixed once the body is added.
+  const WorldModel& model() const { return model_; }
+  // Everything the next step starts from: each body's pose, velocity, trajectory and sleep,
+  // the clock, the last contacts and their hints. It changes by stepping and by the setters
+  // and place_body below, each of which throws std::invalid_argument naming the body for a
+  // value it cannot take.
+  const WorldState& state() const { return state_; }
+  const BodyModel& body_model(int index) const { return model_.bodies.at(index); }
+  const BodyState& body_state(int index) const { return state_.bodies.at(index); }
+  bool asleep(int index) const { return state_.bodies.at(index).asleep; }
+  // A body's model and state together, as add_body takes it, and all of them: copies, for
+  // reports and checks (the step reads model() and state()).
+  RigidBody body_copy(int index) const { return {model_.bodies.at(index), state_.bodies.at(index)}; }
+  std::vector<RigidBody> body_copies() const;
   // A dynamic body's velocity (of its centre of mass; world frame), finite. Wakes it.
   void set_velocity(int index, const Eigen::Vector3d& v_WBcm_m_s, const Eigen::Vector3d& w_WB_rad_s);
   // The same from the velocity of the body frame's origin, as scene files and world states give it.
@@ -57,9 +69,7 @@ class World {
   // Removes a body (indices after it shift down by one).
   void remove_body(int index);
   const std::vector<Contact>& contacts() const { return state_.contacts; }
-  // Everything the next step starts from besides the bodies: clock, sleep, hints.
-  const WorldState& state() const { return state_; }
-  const WorldOptions& options() const { return options_; }
+  const WorldOptions& options() const { return model_.options; }
 
  private:
   // The step's working data (world_internal.hpp): a group's share of the first solve, its
@@ -87,26 +97,26 @@ class World {
   GroupOutcome advance_group(double dt_s, const std::vector<int>& participants, const FirstSolve& first,
                              ImpactCache& first_ccd, StepReport& report);
   // What the sweep stage reads of this world.
-  SweepWorld sweep_world() { return {bodies_, radius_m_, options_, state_.mesh, pool_}; }
+  SweepWorld sweep_world() { return {model_, state_.bodies, state_.mesh, pool_}; }
   // What a part's rounds read and write of this world.
   RoundsWorld rounds_world() { return {sweep_world(), state_.time_s, state_.held_back_bounces}; }
   // Kinematic participants to their trajectory pose at t_s, moving as they will over
   // the next h_s (h_s = 0: their instantaneous twist).
   void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);
   // Wakes the sleepers a moving body can reach over dt_s (in turn, the sleepers they
-  // touched when they fell asleep), and holds the others fixed for the step (their motion made static);
-  // returns those, for end_sleep_step to restore and to put more bodies to sleep.
-  std::vector<int> hold_sleepers(double dt_s);
-  void end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report);
+  // touched when they fell asleep); the others stay asleep, held fixed through the step.
+  void hold_sleepers(double dt_s);
+  // Counts each awake body's quiet time and puts quiet islands to sleep.
+  void end_sleep_step(double dt_s, StepReport& report);
   // Wakes these bodies (their quiet time restarts) and, in turn, the sleepers they touched.
   void wake(std::vector<int> bodies);
   // |v| + |w| r: a bound on how fast any point of the body moves (r its bounding radius).
   double point_speed_m_s(int index) const;
+  // The physics moves the body in this step: dynamic and awake.
+  bool moving(int index) const { return moves(model_.bodies[index], state_.bodies[index]); }
 
-  WorldOptions options_;
+  WorldModel model_;
   WorkerPool pool_;
-  std::vector<RigidBody> bodies_;
-  std::vector<double> radius_m_;  // bounding radius about each body origin
   WorldState state_;
 };
 

@@ -30,8 +30,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
     // pile's are a megabyte).
     const bool at_start = elapsed == 0;
     std::vector<Contact> gathered;
-    if (!at_start)
-      gathered = gather_contacts(bodies_, radius_m_, options_, state_.hints, state_.mesh, pool_, participants, 0);
+    if (!at_start) gathered = gather_contacts(model_, state_.bodies, state_.hints, state_.mesh, pool_, participants, 0);
     // Gravity and the gyroscopic term act once per step, over all of it, in its first
     // solve: the velocities are end-of-step velocities (symplectic Euler), and a cut
     // carries them on.
@@ -49,27 +48,26 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       motion.u = first.u;
       outcome.contacts = first.solved;
     } else {
-      part.setup = prepare_solve(bodies_, options_, h, part.force_h, participants, part.resting);
-      StepSolve solved =
-          solve_step(bodies_, radius_m_, options_, *part.setup, participants, part.resting, {}, &part.islands);
+      part.setup = prepare_solve(model_, state_.bodies, h, part.force_h, participants, part.resting);
+      StepSolve solved = solve_step(model_, state_.bodies, *part.setup, participants, part.resting, {}, &part.islands);
       tally(solved, report);
       motion.squeezed = solved.infeasible;
       motion.u = std::move(solved.u);
       outcome.contacts = std::move(solved.solved);
     }
-    motion.next = candidate_poses(bodies_, participants, motion.u, state_.time_s + elapsed, h);
+    motion.next = candidate_poses(model_, state_.bodies, participants, motion.u, state_.time_s + elapsed, h);
     // Answers valid while the start poses are these: the step's first sweep, then fresh
     // but for the pairs that go on as before the cut.
     ImpactCache fresh;
-    if (!at_start) fresh = carry_over_cut(bodies_, participants, motion.u, motion.next, cut);
+    if (!at_start) fresh = carry_over_cut(model_, state_.bodies, participants, motion.u, motion.next, cut);
     ImpactCache& cache = at_start ? first_ccd : fresh;
     resolve_rounds(rounds_world(), participants, part, cache, cut_at_start, motion, outcome.contacts, report);
     if (motion.tau < 1.0) {
       // Still meeting (a turning body whose constraints were linearised): stop at the
       // impact, with the velocities of the step, and go on from there.
-      motion.tau = unswept_clear_fraction(bodies_, options_, participants, motion.next, cache, motion.tau, h);
+      motion.tau = unswept_clear_fraction(model_, state_.bodies, participants, motion.next, cache, motion.tau, h);
       h *= motion.tau;
-      if (++events >= options_.max_events_per_step) outcome.capped = true;
+      if (++events >= model_.options.max_events_per_step) outcome.capped = true;
       // A second cut at the start of what is left: nothing has moved since the last, the
       // step's force is spent, and the solve would give the same motion until the cap:
       // the group's step ends here.
@@ -92,7 +90,7 @@ World::GroupOutcome World::advance_group(double dt_s, const std::vector<int>& pa
       }
     }
     report.non_finite_held +=
-        commit_motion(bodies_, radius_m_, participants, motion.u, motion.next, motion.tau, outcome.swept);
+        commit_motion(model_, state_.bodies, participants, motion.u, motion.next, motion.tau, outcome.swept);
     elapsed += h;
     if (outcome.capped) break;
   }

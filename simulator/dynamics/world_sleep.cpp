@@ -19,22 +19,22 @@ void World::wake(std::vector<int> woken) {
     const int i = woken.back();
     woken.pop_back();
     state_.sleep.quiet_s[i] = 0;
-    if (!state_.sleep.asleep[i]) continue;
-    state_.sleep.asleep[i] = 0;
+    if (!state_.bodies[i].asleep) continue;
+    state_.bodies[i].asleep = false;
     for (int j : state_.sleep.touching[i])
-      if (state_.sleep.asleep[j]) woken.push_back(j);
+      if (state_.bodies[j].asleep) woken.push_back(j);
   }
 }
 
 double World::point_speed_m_s(int i) const {
-  const RigidBody& body = bodies_[i];
-  return body.v_WBcm_m_s.norm() + body.w_WB_rad_s.norm() * radius_m_[i];
+  const BodyState& body = state_.bodies[i];
+  return body.v_WBcm_m_s.norm() + body.w_WB_rad_s.norm() * model_.radius_m[i];
 }
 
-std::vector<int> World::hold_sleepers(double dt_s) {
-  const int n = static_cast<int>(bodies_.size());
-  const double tolerance = options_.contact_tolerance_m;
-  const double fall_m = 0.5 * options_.gravity_m_s2.norm() * dt_s * dt_s;
+void World::hold_sleepers(double dt_s) {
+  const int n = static_cast<int>(model_.bodies.size());
+  const double tolerance = model_.options.contact_tolerance_m;
+  const double fall_m = 0.5 * model_.options.gravity_m_s2.norm() * dt_s * dt_s;
   // What can reach a sleeper over the step, and how far (bounding radius included): a
   // moving kinematic body by its motion (this step's twist) and the contact tolerance; a
   // moving dynamic body by those and a fall under gravity. A quiet awake body wakes only
@@ -43,56 +43,51 @@ std::vector<int> World::hold_sleepers(double dt_s) {
   std::vector<int> sleepers, woken;
   std::vector<std::pair<int, double>> reaching;
   for (int i = 0; i < n; ++i) {
-    const RigidBody& body = bodies_[i];
+    const BodyModel& body = model_.bodies[i];
     const double speed_m_s = point_speed_m_s(i);
-    if (state_.sleep.asleep[i] && body.is_dynamic() && speed_m_s == 0) {
+    if (state_.bodies[i].asleep && body.is_dynamic() && speed_m_s == 0) {
       sleepers.push_back(i);
       continue;
     }
-    if (state_.sleep.asleep[i]) woken.push_back(i);  // (a sleeper given a velocity from outside)
+    if (state_.bodies[i].asleep) woken.push_back(i);  // (a sleeper given a velocity from outside)
     if (state_.sleep.placed_to_wake[i]) {
       // Placed: it reaches what its new pose touches (a plane, everything).
-      if (!std::isfinite(radius_m_[i])) {
+      if (!std::isfinite(model_.radius_m[i])) {
         for (int j = 0; j < n; ++j)
-          if (state_.sleep.asleep[j]) woken.push_back(j);
+          if (state_.bodies[j].asleep) woken.push_back(j);
       } else {
-        reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
+        reaching.emplace_back(i, model_.radius_m[i] + speed_m_s * dt_s + tolerance);
       }
     }
     if (body.motion == BodyMotion::kKinematic && speed_m_s > 0)
-      reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + tolerance);
-    if (body.is_dynamic() && speed_m_s >= options_.sleep_speed_m_s)
-      reaching.emplace_back(i, radius_m_[i] + speed_m_s * dt_s + fall_m + tolerance);
+      reaching.emplace_back(i, model_.radius_m[i] + speed_m_s * dt_s + tolerance);
+    if (body.is_dynamic() && speed_m_s >= model_.options.sleep_speed_m_s)
+      reaching.emplace_back(i, model_.radius_m[i] + speed_m_s * dt_s + fall_m + tolerance);
   }
   // The sleepers a moving body reaches (bounding balls), and in turn those they touched.
   for (const Contact& c : state_.contacts)  // (the last step's)
     for (const auto& [awake, other] : {std::pair(c.body_a, c.body_b), std::pair(c.body_b, c.body_a)})
-      if (bodies_[awake].is_dynamic() && !state_.sleep.asleep[awake] && state_.sleep.asleep[other])
-        woken.push_back(other);
+      if (moving(awake) && state_.bodies[other].asleep) woken.push_back(other);
   if (!reaching.empty() && !sleepers.empty()) {
     std::vector<Eigen::AlignedBox3d> boxes;
-    for (const auto& [i, reach_m] : reaching) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), reach_m));
-    for (int i : sleepers) boxes.push_back(ball_bounds(bodies_[i].X_WB.translation(), radius_m_[i]));
+    for (const auto& [i, reach_m] : reaching)
+      boxes.push_back(ball_bounds(state_.bodies[i].X_WB.translation(), reach_m));
+    for (int i : sleepers) boxes.push_back(ball_bounds(state_.bodies[i].X_WB.translation(), model_.radius_m[i]));
     const int r = static_cast<int>(reaching.size());
     for (const auto& [p, q] : collision::overlapping_pairs(boxes))
       if ((p < r) != (q < r)) woken.push_back(sleepers[std::max(p, q) - r]);
   }
   wake(std::move(woken));
-  sleepers.erase(std::remove_if(sleepers.begin(), sleepers.end(), [&](int i) { return !state_.sleep.asleep[i]; }),
-                 sleepers.end());
-  for (int i : sleepers) bodies_[i].motion = BodyMotion::kStatic;
-  return sleepers;
 }
 
-void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport& report) {
-  for (int i : held) bodies_[i].motion = BodyMotion::kDynamic;
-  const int n = static_cast<int>(bodies_.size());
-  const auto awake = [&](int i) { return bodies_[i].is_dynamic() && !state_.sleep.asleep[i]; };
+void World::end_sleep_step(double dt_s, StepReport& report) {
+  const int n = static_cast<int>(model_.bodies.size());
+  const auto awake = [&](int i) { return moving(i); };
   for (int i = 0; i < n; ++i) {
     if (!awake(i)) continue;
     // (Counted in steps' worth of time: fifty 10 ms steps add up to just under 0.5 s.)
     state_.sleep.quiet_s[i] =
-        point_speed_m_s(i) < options_.sleep_speed_m_s ? state_.sleep.quiet_s[i] + dt_s * (1 + 1e-9) : 0.0;
+        point_speed_m_s(i) < model_.options.sleep_speed_m_s ? state_.sleep.quiet_s[i] + dt_s * (1 + 1e-9) : 0.0;
   }
   // Bodies in contact fall asleep together, once the last of them has been quiet long
   // enough: a body asleep against an awake one would be woken by it at once.
@@ -104,19 +99,20 @@ void World::end_sleep_step(const std::vector<int>& held, double dt_s, StepReport
     if (awake(i)) least_quiet_s[islands.find(i)] = std::min(least_quiet_s[islands.find(i)], state_.sleep.quiet_s[i]);
   std::vector<char> falling_asleep(n, 0);
   for (int i = 0; i < n; ++i) {
-    if (!awake(i) || least_quiet_s[islands.find(i)] < options_.sleep_after_s) continue;
+    if (!awake(i) || least_quiet_s[islands.find(i)] < model_.options.sleep_after_s) continue;
     falling_asleep[i] = 1;
-    bodies_[i].v_WBcm_m_s.setZero();
-    bodies_[i].w_WB_rad_s.setZero();
+    state_.bodies[i].v_WBcm_m_s.setZero();
+    state_.bodies[i].w_WB_rad_s.setZero();
     state_.sleep.touching[i].clear();
   }
   for (const Contact& c : state_.contacts) {
-    if (!bodies_[c.body_a].is_dynamic() || !bodies_[c.body_b].is_dynamic()) continue;
+    if (!model_.bodies[c.body_a].is_dynamic() || !model_.bodies[c.body_b].is_dynamic()) continue;
     if (falling_asleep[c.body_a]) state_.sleep.touching[c.body_a].push_back(c.body_b);
     if (falling_asleep[c.body_b]) state_.sleep.touching[c.body_b].push_back(c.body_a);
   }
-  for (int i = 0; i < n; ++i) state_.sleep.asleep[i] |= falling_asleep[i];
-  report.bodies_asleep = static_cast<int>(std::count(state_.sleep.asleep.begin(), state_.sleep.asleep.end(), 1));
+  for (int i = 0; i < n; ++i) state_.bodies[i].asleep = state_.bodies[i].asleep || falling_asleep[i];
+  report.bodies_asleep = static_cast<int>(
+      std::count_if(state_.bodies.begin(), state_.bodies.end(), [](const BodyState& body) { return body.asleep; }));
 }
 
 }  // namespace arphys::dynamics

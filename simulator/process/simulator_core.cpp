@@ -149,7 +149,7 @@ bool SimulatorCore::on_command(const SpawnRequest& command) {
     case SpawnRequest::Kind::kReset: reset(); return true;
     case SpawnRequest::Kind::kRemove: {
       const int index = world_.find(command.body_id);
-      if (index < 0 || world_.bodies()[index].real) {
+      if (index < 0 || world_.body_model(index).real) {
         reject("cannot remove '" + command.body_id + "' (no such virtual body)");
         return false;
       }
@@ -176,7 +176,7 @@ std::string SimulatorCore::add_instance(const config::ObjectConfig& object, cons
                                         const geometry::Pose& X_WB, const Eigen::Vector3d& v_WB_m_s,
                                         const Eigen::Vector3d& w_WB_rad_s, bool resumed) {
   int live = 0;
-  for (const auto& body : world_.bodies()) live += body.model == object.id;
+  for (const auto& body : world_.model().bodies) live += body.model == object.id;
   if (live >= object.max_instances) {
     return std::to_string(live) + " live, the limit is " + std::to_string(object.max_instances);
   }
@@ -198,26 +198,28 @@ std::string SimulatorCore::add_instance(const config::ObjectConfig& object, cons
   // comes back as it was, unless another body is at its very pose (a duplicate, not a
   // state the world can have been in). Refusing every overlap lost a touching bunny in 6
   // of 14 runs of the process-restart test.
-  const auto at_its_pose = [&](const dynamics::RigidBody& other) {
-    return (other.X_WB.translation() - X_WB.translation()).norm() < 1e-3 &&
-           Eigen::AngleAxisd(other.X_WB.linear().transpose() * X_WB.linear()).angle() < 1e-2;
+  const auto at_its_pose = [&](const geometry::Pose& X_WO) {
+    return (X_WO.translation() - X_WB.translation()).norm() < 1e-3 &&
+           Eigen::AngleAxisd(X_WO.linear().transpose() * X_WB.linear()).angle() < 1e-2;
   };
-  const auto overlaps = [&](const dynamics::RigidBody& other) {
+  const auto overlaps = [&](const dynamics::BodyModel& other, const geometry::Pose& X_WO) {
     if (other.shape.type() != collision::Shape::Type::kPlane &&
-        (other.X_WB.translation() - body.X_WB.translation()).norm() > other.bounding_radius_m() + body.bounding_radius_m()) {
+        (X_WO.translation() - body.X_WB.translation()).norm() > other.bounding_radius_m() + body.bounding_radius_m()) {
       return false;
     }
     if (body.shape.triangles() && other.shape.triangles())
-      return collision::intersects(*body.shape.triangles(), body.X_WB, *other.shape.triangles(), other.X_WB);
+      return collision::intersects(*body.shape.triangles(), body.X_WB, *other.shape.triangles(), X_WO);
     // Planes and spheres report signed distances: negative is a penetration.
-    for (const auto& point : collision::contact_manifold(body.shape, body.X_WB, other.shape, other.X_WB, 1e-4))
+    for (const auto& point : collision::contact_manifold(body.shape, body.X_WB, other.shape, X_WO, 1e-4))
       if (point.distance_m < 0.0) return true;
     return false;
   };
-  for (const auto& other : world_.bodies()) {
-    if (resumed && other.shape.type() != collision::Shape::Type::kPlane && at_its_pose(other))
+  for (int i = 0; i < world_.body_count(); ++i) {
+    const dynamics::BodyModel& other = world_.body_model(i);
+    const geometry::Pose& X_WO = world_.body_state(i).X_WB;
+    if (resumed && other.shape.type() != collision::Shape::Type::kPlane && at_its_pose(X_WO))
       return "would overlap '" + other.id + "' (at its pose)";
-    if (!resumed && overlaps(other)) return "would overlap '" + other.id + "'";
+    if (!resumed && overlaps(other, X_WO)) return "would overlap '" + other.id + "'";
   }
   // Generated ids continue after the highest one in use ("bunny#7" -> next "bunny#8").
   const std::size_t hash = id.rfind('#');
@@ -286,17 +288,19 @@ void SimulatorCore::update_kinematic(double t0, double t1) {
     if (index < 0 || !driver.has_pose()) continue;
     auto seen = last_seen_s_.find(id);
     if (seen != last_seen_s_.end() && t0 - seen->second > options_.stale_timeout_s) driver.on_lost(t0);
-    const dynamics::RigidBody& body = world_.body(index);
-    const geometry::Pose from = body.X_WB;
+    const dynamics::BodyModel& body = world_.body_model(index);
+    const geometry::Pose from = world_.body_state(index).X_WB;
     geometry::Pose to = driver.trajectory().pose_at(t1);
     const geometry::ScrewMotion motion(from, to);
     double earliest = 1.0;
-    for (const dynamics::RigidBody& other : world_.bodies()) {
+    for (int o = 0; o < world_.body_count(); ++o) {
+      const dynamics::BodyModel& other = world_.body_model(o);
       if (other.real || other.motion != dynamics::BodyMotion::kStatic) continue;
+      const geometry::Pose& X_WO = world_.body_state(o).X_WB;
       // (The world's CCD settings: its time tolerance and work budgets, whose answers are
       // never late. A proxy stopped at the cup starts every later query touching it.)
-      const auto r = collision::time_of_impact(body.shape, motion, other.shape,
-                                               geometry::ScrewMotion(other.X_WB, other.X_WB), world_.options().ccd);
+      const auto r = collision::time_of_impact(body.shape, motion, other.shape, geometry::ScrewMotion(X_WO, X_WO),
+                                               world_.options().ccd);
       if (!r.collides || r.features.kind == collision::FeaturePair::kOverlapAtStart) continue;
       if (r.time_of_impact < earliest) {
         earliest = r.time_of_impact;
@@ -321,9 +325,10 @@ int SimulatorCore::advance_to(double t_s) {
     ++steps;
     // A virtual body that fell off the table would fall forever and hold one of the
     // scene's instances: past the world radius it is removed, and said so.
-    for (int i = static_cast<int>(world_.bodies().size()) - 1; i >= 0; --i) {
-      const auto& body = world_.bodies()[i];
-      if (!body.real && body.is_dynamic() && !(body.X_WB.translation().norm() <= options_.world_radius_m)) {
+    for (int i = world_.body_count() - 1; i >= 0; --i) {
+      const dynamics::BodyModel& body = world_.body_model(i);
+      if (!body.real && body.is_dynamic() &&
+          !(world_.body_state(i).X_WB.translation().norm() <= options_.world_radius_m)) {
         ++bodies_left_world_;
         last_body_left_world_ = body.id;
         world_.remove_body(i);

@@ -23,11 +23,13 @@ using namespace arphys;
 
 void write_rows(std::ostream& out, const dynamics::World& world) {
   char row[512];
-  for (const dynamics::RigidBody& body : world.bodies()) {
-    const Eigen::Vector3d p = body.X_WB.translation();
-    const Eigen::Quaterniond q(body.X_WB.linear());
-    const Eigen::Vector3d v = body.origin_velocity();
-    const Eigen::Vector3d& w = body.w_WB_rad_s;
+  for (int i = 0; i < world.body_count(); ++i) {
+    const dynamics::BodyModel& body = world.body_model(i);
+    const dynamics::BodyState& now = world.body_state(i);
+    const Eigen::Vector3d p = now.X_WB.translation();
+    const Eigen::Quaterniond q(now.X_WB.linear());
+    const Eigen::Vector3d v = dynamics::origin_velocity(body, now);
+    const Eigen::Vector3d& w = now.w_WB_rad_s;
     std::snprintf(row, sizeof row, "%.6f,%s,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g,%.12g\n",
                   world.time_s(), body.id.c_str(), p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z(), v.x(), v.y(), v.z(),
                   w.x(), w.y(), w.z());
@@ -65,16 +67,16 @@ void write_step_time(std::ostream& out, double t_s, const dynamics::StepReport& 
 
 void print_summary(const std::string& scene, const dynamics::World& world, double dt_s, double duration_s, int threads,
                    const RunTotals& t, double wall_s) {
-  std::fprintf(
-      stderr,
-      "\r[simulate] %s: %ld steps of %.4g s, %zu bodies, %d thread%s; %.3f ms per step (real-time factor %.2f; "
-      "%.2f s in all with the CSV); %ld re-solves (CCD meetings and end checks), %ld lifts of resting points "
-      "left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, %ld launches "
-      "prevented, %ld bodies held after a numerical failure, %ld island solves too large for the exact "
-      "solver; deepest overlap %.3g m; worst KKT residual %.3g m/s\n",
-      scene.c_str(), t.steps, dt_s, world.bodies().size(), threads, threads == 1 ? "" : "s",
-      1e3 * t.stepping_s / std::max(1L, t.steps), duration_s / std::max(t.stepping_s, 1e-9), wall_s, t.resolves,
-      t.lifts, t.cuts, t.capped, t.infeasible, t.launches, t.held, t.iterative, t.deepest, t.worst_kkt);
+  std::fprintf(stderr,
+               "\r[simulate] %s: %ld steps of %.4g s, %d bodies, %d thread%s; %.3f ms per step (real-time factor %.2f; "
+               "%.2f s in all with the CSV); %ld re-solves (CCD meetings and end checks), %ld lifts of resting points "
+               "left too deep, %ld cuts at a time of impact, %ld capped steps, %ld squeezed steps, %ld launches "
+               "prevented, %ld bodies held after a numerical failure, %ld island solves too large for the exact "
+               "solver; deepest overlap %.3g m; worst KKT residual %.3g m/s\n",
+               scene.c_str(), t.steps, dt_s, world.body_count(), threads, threads == 1 ? "" : "s",
+               1e3 * t.stepping_s / std::max(1L, t.steps), duration_s / std::max(t.stepping_s, 1e-9), wall_s,
+               t.resolves, t.lifts, t.cuts, t.capped, t.infeasible, t.launches, t.held, t.iterative, t.deepest,
+               t.worst_kkt);
 }
 
 }  // namespace

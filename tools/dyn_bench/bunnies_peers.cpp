@@ -48,8 +48,8 @@ Row run_arphys(const config::SceneConfig& scene, double duration_s) {
     world.step(scene.time_step_s);
     wall += std::chrono::duration<double>(Clock::now() - start).count();
     std::vector<geometry::Pose> poses;
-    for (const RigidBody& b : world.bodies()) poses.push_back(b.X_WB);
-    row.deepest_overlap_m = std::max(row.deepest_overlap_m, deepest_overlap_m(world.bodies(), poses));
+    for (const RigidBody& b : world.body_copies()) poses.push_back(b.X_WB);
+    row.deepest_overlap_m = std::max(row.deepest_overlap_m, deepest_overlap_m(world.body_copies(), poses));
     row.simulated_s += scene.time_step_s;
     if (wall > 120) break;  // a scene that slows to a crawl is reported, not waited for
   }
@@ -60,7 +60,7 @@ Row run_arphys(const config::SceneConfig& scene, double duration_s) {
 // The scene's bodies for a peer, and the mesh the bunny's pieces were made from.
 BunnyModel bunny_model(const config::SceneConfig& scene) {
   BunnyModel model;
-  model.bodies = arphys::scene::build_world(scene).bodies();
+  model.bodies = arphys::scene::build_world(scene).body_copies();
   model.gravity_m_s2 = scene.gravity_m_s2;
   for (const config::ObjectConfig& o : scene.objects)
     if (o.collision.type == config::ShapeType::kConvexSet && !o.collision.mesh_path.empty())

@@ -388,7 +388,7 @@ struct Crossings {
 };
 Crossings crossing_pairs(const arphys::dynamics::World& world) {
   using Type = arphys::collision::Shape::Type;
-  const auto& bodies = world.bodies();
+  const auto& bodies = world.body_copies();
   Crossings crossing;
   for (std::size_t i = 0; i < bodies.size(); ++i)
     for (std::size_t j = i + 1; j < bodies.size(); ++j) {
@@ -421,8 +421,8 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
     std::vector<double> ms_per_step;
     for (int run = 0; run < runs; ++run) {
       arphys::dynamics::World world = arphys::scene::build_world(scene);
-      for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
-        if (const arphys::dynamics::RigidBody& body = world.body(i); body.is_dynamic())
+      for (int i = 0; i < static_cast<int>(world.body_count()); ++i)
+        if (const arphys::dynamics::RigidBody& body = world.body_copy(i); body.is_dynamic())
           world.set_velocity(i, body.v_WBcm_m_s + Eigen::Vector3d(start_velocity_perturbation_m_s(i, run), 0, 0),
                              body.w_WB_rad_s);
       const long steps = std::lround(duration / scene.time_step_s);
@@ -443,11 +443,14 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
       }
       const double simulated = done * scene.time_step_s;
       ms_per_step.push_back(1e3 * wall / done);
-      std::printf("%-12s %4d %8zu %10.3f %16.2f %10ld %8ld %8ld %7ld%s\n", name.c_str(), run, world.bodies().size(),
+      std::printf("%-12s %4d %8d %10.3f %16.2f %10ld %8ld %8ld %7ld%s\n", name.c_str(), run, world.body_count(),
                   1e3 * wall / done, simulated / wall, impacts, crossed, in_fixed, waited,
-                  done < steps ? ("  (stopped after 120 s of wall time at t = " + std::to_string(simulated) + " s)").c_str() : "");
-      csv.out << name << "," << world.bodies().size() << "," << 1e3 * wall / done << "," << simulated / wall << "," << impacts
-              << "," << simulated << "," << run << "," << crossed << "," << waited << "," << in_fixed << "\n";
+                  done < steps
+                      ? ("  (stopped after 120 s of wall time at t = " + std::to_string(simulated) + " s)").c_str()
+                      : "");
+      csv.out << name << "," << world.body_count() << "," << 1e3 * wall / done << "," << simulated / wall << ","
+              << impacts << "," << simulated << "," << run << "," << crossed << "," << waited << "," << in_fixed
+              << "\n";
       std::fflush(stdout);
     }
     if (runs > 1)

@@ -55,8 +55,8 @@ class ArphysEngine : public Engine {
     world_->set_trajectory(i, std::move(trajectory));
   }
   void step() override { world_->step(dt_); }
-  Eigen::Isometry3d pose(int i) const override { return world_->bodies()[i].X_WB; }
-  Eigen::Vector3d velocity(int i) const override { return world_->bodies()[i].v_WBcm_m_s; }
+  Eigen::Isometry3d pose(int i) const override { return world_->body_state(i).X_WB; }
+  Eigen::Vector3d velocity(int i) const override { return world_->body_state(i).v_WBcm_m_s; }
 
  private:
   std::string name_;

@@ -57,7 +57,7 @@ std::vector<LoadSecond> run_main_job_load(const config::CameraScriptConfig& scri
     if (second > current.second) {
       current.ms_per_step = current.steps > 0 ? current_ms / current.steps : 0.0;
       current.virtual_bodies = 0;
-      for (const auto& body : core.world().bodies()) current.virtual_bodies += body.is_dynamic();
+      for (const auto& body : core.world().body_copies()) current.virtual_bodies += body.is_dynamic();
       current.bodies_left_world = static_cast<int>(core.bodies_left_world());
       seconds.push_back(current);
       current = LoadSecond{};

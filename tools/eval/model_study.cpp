@@ -90,8 +90,8 @@ ModelOutcome run_model_variant(const config::SceneConfig& scene_in, const ModelV
     out.max_penetration_mm = std::max(out.max_penetration_mm, 1e3 * report.max_penetration_m);
   }
   out.ms_per_step = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps;
-  for (int i = 0; i < 3; ++i) out.rest_poses.push_back(world.bodies()[world.find("bunny#" + std::to_string(i))].X_WB);
-  out.upright_rest_pose = world.bodies()[world.find("bunny#upright")].X_WB;
+  for (int i = 0; i < 3; ++i) out.rest_poses.push_back(world.body_state(world.find("bunny#" + std::to_string(i))).X_WB);
+  out.upright_rest_pose = world.body_state(world.find("bunny#upright")).X_WB;
   return out;
 }
 

@@ -79,7 +79,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
   const auto wall_start = std::chrono::steady_clock::now();
   for (long k = 0; k < steps; ++k) {
     const double t0 = k * dt, t1 = (k + 1) * dt;
-    const geometry::Pose from = world.body(box).X_WB;
+    const geometry::Pose from = world.body_state(box).X_WB;
     // Frames captured up to t0 (a frame's pose is the truth at its capture time, noised).
     bool teleport_to_new = false;
     geometry::Pose newest = from;
@@ -110,7 +110,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
       // tested for overlap, the sleepers it lands in wake); a pose set directly would pass
       // through a sleeping bunny unseen.
       if (teleport_to_new) world.place_body(box, newest);
-      to = world.body(box).X_WB;
+      to = world.body_state(box).X_WB;
       dynamics::KinematicTrajectory held;
       held.add(t0, to);
       held.add(t1, to);
@@ -123,7 +123,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
       world.set_trajectory(box, std::move(moved));
     }
     const dynamics::StepReport report = world.step(dt);
-    const dynamics::RigidBody& b = world.bodies()[bunny];
+    const dynamics::RigidBody& b = world.body_copy(bunny);
     if (!b.X_WB.matrix().allFinite() || !b.v_WBcm_m_s.allFinite()) {
       out.non_finite = true;
       break;
@@ -137,7 +137,7 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
     }
   }
   out.ms_per_step = 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count() / steps;
-  out.pushed_m = world.bodies()[bunny].X_WB.translation().x() - start.x();
+  out.pushed_m = world.body_state(bunny).X_WB.translation().x() - start.x();
 
   return out;
 }

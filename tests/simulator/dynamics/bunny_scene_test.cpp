@@ -37,19 +37,19 @@ TEST(BunnyScene, TwentyBunniesAsShippedNeverFreezeNorLetTheBoxIn) {
   World world = arphys::scene::build_world(scene);
   const int box = world.find("box");
   ASSERT_GE(box, 0);
-  const Eigen::Vector3d box_half_extents_m = 0.5 * world.bodies()[box].shape.size_m();
+  const Eigen::Vector3d box_half_extents_m = 0.5 * world.body_model(box).shape.size_m();
   int frozen_in_a_row = 0, longest = 0;
   double deepest_in_box_m = 0;
   for (int step = 0; step < 230; ++step) {
     std::vector<geometry::Pose> before;
-    for (const RigidBody& body : world.bodies()) before.push_back(body.X_WB);
+    for (const RigidBody& body : world.body_copies()) before.push_back(body.X_WB);
     world.step(scene.time_step_s);
     bool moved = false;
     for (std::size_t i = 0; i < before.size(); ++i) {
-      const RigidBody& body = world.bodies()[i];
+      const RigidBody& body = world.body_copy(i);
       if (!body.is_dynamic()) continue;
       moved |= body.X_WB.matrix() != before[i].matrix();
-      deepest_in_box_m = std::max(deepest_in_box_m, depth_inside_box(body, world.bodies()[box], box_half_extents_m));
+      deepest_in_box_m = std::max(deepest_in_box_m, depth_inside_box(body, world.body_copy(box), box_half_extents_m));
     }
     frozen_in_a_row = moved ? 0 : frozen_in_a_row + 1;
     longest = std::max(longest, frozen_in_a_row);

@@ -19,7 +19,7 @@ namespace {
 
 // The deepest overlap of any two bodies at their current poses (0: none).
 double deepest_overlap_m(const World& world) {
-  const auto& bodies = world.bodies();
+  const auto& bodies = world.body_copies();
   std::vector<Eigen::AlignedBox3d> boxes;
   for (const RigidBody& body : bodies) {
     if (body.shape.type() == collision::Shape::Type::kPlane) {

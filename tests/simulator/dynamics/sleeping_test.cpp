@@ -24,8 +24,8 @@ WorldOptions sleepy() {
 // The deepest two bodies overlap at their current poses (0: apart or touching).
 double overlap_m(const World& world, int a, int b) {
   double deepest = 0;
-  const auto& A = world.bodies()[a];
-  const auto& B = world.bodies()[b];
+  const auto& A = world.body_copy(a);
+  const auto& B = world.body_copy(b);
   for (const auto& point : collision::contact_manifold(A.shape, A.X_WB, B.shape, B.X_WB, 0.0))
     deepest = std::max(deepest, -point.distance_m);
   return deepest;
@@ -60,16 +60,16 @@ TEST(Sleeping, ABoxAtRestFallsAsleepAndCostsNothing) {
   EXPECT_GT(steps_to_sleep, 25);
   EXPECT_LT(steps_to_sleep, 45);
   EXPECT_EQ(report.bodies_asleep, 1);
-  const geometry::Pose X_asleep = world.bodies()[box].X_WB;
+  const geometry::Pose X_asleep = world.body_state(box).X_WB;
   for (int k = 0; k < 100; ++k) {
     report = world.step(0.01);
     EXPECT_EQ(report.contacts, 0) << "a sleeper's contacts are not gathered or solved";
     EXPECT_EQ(report.ccd_queries, 0);
   }
   EXPECT_TRUE(world.asleep(box));
-  EXPECT_TRUE(world.bodies()[box].X_WB.matrix() == X_asleep.matrix()) << "a sleeper does not creep";
-  EXPECT_TRUE(world.bodies()[box].v_WBcm_m_s.isZero());
-  EXPECT_NEAR(world.bodies()[box].X_WB.translation().z(), 0.1, 2e-6);
+  EXPECT_TRUE(world.body_state(box).X_WB.matrix() == X_asleep.matrix()) << "a sleeper does not creep";
+  EXPECT_TRUE(world.body_state(box).v_WBcm_m_s.isZero());
+  EXPECT_NEAR(world.body_state(box).X_WB.translation().z(), 0.1, 2e-6);
 }
 
 TEST(Sleeping, WithoutTheOptionNothingSleeps) {
@@ -107,8 +107,8 @@ TEST(Sleeping, AMovingTrackedBodyWakesASleeperInTimeToPushIt) {
   EXPECT_FALSE(world.asleep(target));
   EXPECT_LE(deepest, options.overlap_tolerance_m);
   // Pushed from x = 0 by the pusher's face (which ends at x = 0.2 - 0.1 = 0.1).
-  EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.19);
-  EXPECT_NEAR(world.bodies()[target].v_WBcm_m_s.x(), 0.5, 0.05);
+  EXPECT_GT(world.body_state(target).X_WB.translation().x(), 0.19);
+  EXPECT_NEAR(world.body_state(target).v_WBcm_m_s.x(), 0.5, 0.05);
 }
 
 // A box dropped onto a sleeping stack wakes the box it lands on, and that one the box
@@ -134,7 +134,7 @@ TEST(Sleeping, ABodyLandingOnASleepingStackWakesItThroughItsContacts) {
   EXPECT_TRUE(bottom_woke);
   EXPECT_LE(deepest, options.overlap_tolerance_m);
   EXPECT_TRUE(world.asleep(bottom) && world.asleep(top) && world.asleep(d)) << "asleep again once all three rest";
-  EXPECT_GT(world.bodies()[d].X_WB.translation().z(), 0.49);  // on top of the stack
+  EXPECT_GT(world.body_state(d).X_WB.translation().z(), 0.49);  // on top of the stack
 }
 
 // Removing a body renumbers the others: the sleepers' contact partners follow, so the
@@ -150,7 +150,7 @@ TEST(Sleeping, RemovingABodyKeepsTheSleepersPartnersRight) {
   const int bottom = world.find("bottom"), top = world.find("top");
   ASSERT_TRUE(world.asleep(bottom) && world.asleep(top));
   // Placing the top box (as crash recovery does) wakes it, and the bottom box it touches.
-  world.place_body(top, world.bodies()[top].X_WB);
+  world.place_body(top, world.body_state(top).X_WB);
   EXPECT_FALSE(world.asleep(top));
   EXPECT_FALSE(world.asleep(bottom)) << "woken through the top box's contact";
 }
@@ -171,9 +171,9 @@ TEST(Sleeping, ABodyPlacedIntoASleeperWakesIt) {
   EXPECT_FALSE(world.asleep(target));
   for (int k = 0; k < 30; ++k) world.step(0.01);
   EXPECT_LE(overlap_m(world, p, target), options.overlap_tolerance_m);
-  EXPECT_GT(world.bodies()[target].X_WB.translation().x(), 0.005 - options.overlap_tolerance_m);
+  EXPECT_GT(world.body_state(target).X_WB.translation().x(), 0.005 - options.overlap_tolerance_m);
   // Pushed apart, not launched: it slides off (a frictionless floor) no faster than that.
-  EXPECT_LE(world.bodies()[target].v_WBcm_m_s.norm(), options.max_depenetration_speed_m_s + 1e-9);
+  EXPECT_LE(world.body_state(target).v_WBcm_m_s.norm(), options.max_depenetration_speed_m_s + 1e-9);
 }
 
 }  // namespace

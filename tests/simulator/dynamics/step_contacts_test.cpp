@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/simulator/dynamics/test_bodies.hpp"
@@ -16,15 +17,16 @@ using testing::cube;
 using testing::plane_body;
 
 struct Bodies {
-  std::vector<RigidBody> bodies;
-  std::vector<double> radius_m;
+  WorldModel model;
+  std::vector<BodyState> bodies;
   std::vector<int> everyone;
   MeshCrossingMemo memo;
 };
-Bodies of(std::vector<RigidBody> bodies) {
+Bodies of(const std::vector<RigidBody>& bodies) {
   Bodies out;
-  out.bodies = std::move(bodies);
-  out.radius_m = testing::bounding_radii(out.bodies);
+  testing::StageWorld world = testing::stage_world(bodies);
+  out.model = std::move(world.model);
+  out.bodies = std::move(world.state);
   for (std::size_t i = 0; i < out.bodies.size(); ++i) out.everyone.push_back(static_cast<int>(i));
   out.memo.placed_since_step.assign(out.bodies.size(), 0);
   return out;
@@ -36,7 +38,7 @@ TEST(StepContacts, ACubeOnTheFloorRestsOnItsFourCornersAndTwoFixedBodiesHaveNone
   Bodies scene = of({plane_body(), cube("cube", {0.5, 0, 0.1005}), wall});
   const WorkerPool pool(1);
   const std::vector<Contact> contacts =
-      gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, {}, scene.memo, pool, scene.everyone, 0);
+      gather_contacts(scene.model, scene.bodies, {}, scene.memo, pool, scene.everyone, 0);
   ASSERT_EQ(contacts.size(), 4u);
   for (const Contact& c : contacts) {
     EXPECT_EQ(c.body_a, 0);
@@ -46,8 +48,7 @@ TEST(StepContacts, ACubeOnTheFloorRestsOnItsFourCornersAndTwoFixedBodiesHaveNone
   }
   // 2 mm up is beyond the 1 mm contact tolerance.
   scene.bodies[1].X_WB.translation().z() = 0.102;
-  EXPECT_TRUE(
-      gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, {}, scene.memo, pool, scene.everyone, 0).empty());
+  EXPECT_TRUE(gather_contacts(scene.model, scene.bodies, {}, scene.memo, pool, scene.everyone, 0).empty());
 }
 
 TEST(StepContacts, ContactsTakeTheHintsTheLastStepLeftWithinTheTolerance) {
@@ -60,7 +61,7 @@ TEST(StepContacts, ContactsTakeTheHintsTheLastStepLeftWithinTheTolerance) {
   hints.pending_bounces = {{{0, 1}, {0, 0, 1}, 0.3}};
   const WorkerPool pool(1);
   const std::vector<Contact> contacts =
-      gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, hints, scene.memo, pool, scene.everyone, 0);
+      gather_contacts(scene.model, scene.bodies, hints, scene.memo, pool, scene.everyone, 0);
   ASSERT_EQ(contacts.size(), 4u);
   int pushed = 0;
   for (const Contact& c : contacts) {
@@ -75,8 +76,7 @@ TEST(StepContacts, ContactsTakeTheHintsTheLastStepLeftWithinTheTolerance) {
   EXPECT_EQ(pushed, 1);
   // A bounce along another normal (the pair turned) does not.
   hints.pending_bounces = {{{0, 1}, {1, 0, 0}, 0.3}};
-  for (const Contact& c :
-       gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, hints, scene.memo, pool, scene.everyone, 0))
+  for (const Contact& c : gather_contacts(scene.model, scene.bodies, hints, scene.memo, pool, scene.everyone, 0))
     EXPECT_LT(c.min_normal_velocity_m_s, 0);
 }
 
@@ -91,7 +91,7 @@ TEST(StepContacts, APlacedMeshPairThatCrossesGetsAContactThatPushesItApart) {
   scene.memo.placed_since_step = {0, 1};
   const WorkerPool pool(1);
   const std::vector<Contact> contacts =
-      gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, {}, scene.memo, pool, scene.everyone, 0);
+      gather_contacts(scene.model, scene.bodies, {}, scene.memo, pool, scene.everyone, 0);
   EXPECT_EQ(scene.memo.crossing_tests, 1);
   EXPECT_EQ(scene.memo.placed_crossing.count({0, 1}), 1u);
   ASSERT_FALSE(contacts.empty());
@@ -101,10 +101,10 @@ TEST(StepContacts, APlacedMeshPairThatCrossesGetsAContactThatPushesItApart) {
   EXPECT_NEAR(push.feature.normal_W.z(), 1.0, 1e-9);
   EXPECT_LE(-push.feature.distance_m, 2 * 1.6e-3);
   EXPECT_GE(-push.feature.distance_m, 1.6e-3);
-  EXPECT_LT((push.feature.point_B_W - scene.bodies[1].com_W()).norm(), 1e-12);
+  EXPECT_LT((push.feature.point_B_W - com_W(scene.model.bodies[1], scene.bodies[1])).norm(), 1e-12);
   // Lifted out, it is apart: no longer a placed crossing.
   scene.bodies[1].X_WB.translation().z() = 0.0805;
-  gather_contacts(scene.bodies, scene.radius_m, WorldOptions{}, {}, scene.memo, pool, scene.everyone, 0);
+  gather_contacts(scene.model, scene.bodies, {}, scene.memo, pool, scene.everyone, 0);
   EXPECT_EQ(scene.memo.placed_crossing.count({0, 1}), 0u);
   EXPECT_EQ(scene.memo.apart_at.count({0, 1}), 1u);
 }

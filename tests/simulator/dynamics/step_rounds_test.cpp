@@ -23,22 +23,21 @@ TEST(StepRounds, ABallMeetingTheFloorInsideTheStepBouncesInOneRound) {
   std::vector<RigidBody> bodies = {plane_body(), ball};
   bodies[1].v_WBcm_m_s = {0, 0, -3};
   bodies[1].restitution = 0.5;
-  const std::vector<double> radius_m = testing::bounding_radii(bodies);
+  const testing::StageWorld w = testing::stage_world(bodies);
   const std::vector<int> participants{0, 1};
-  const WorldOptions options;
   MeshCrossingMemo memo;
   memo.placed_since_step = {0, 0};
   const WorkerPool pool(1);
   std::vector<ContactHints::Bounce> held_back;
-  const RoundsWorld world{{bodies, radius_m, options, memo, pool}, 0.0, held_back};
+  const RoundsWorld world{{w.model, w.state, memo, pool}, 0.0, held_back};
   const std::vector<Contact> resting;  // nothing within the contact tolerance at the start
   SolvedIslands islands;
   PartSolve part{0.0, 0.01, 0.01, resting, {}, islands, std::nullopt};
-  part.setup = prepare_solve(bodies, options, 0.01, 0.01, participants, resting);
-  StepSolve first = solve_step(bodies, radius_m, options, *part.setup, participants, resting, {}, &islands);
+  part.setup = prepare_solve(w.model, w.state, 0.01, 0.01, participants, resting);
+  StepSolve first = solve_step(w.model, w.state, *part.setup, participants, resting, {}, &islands);
   PartMotion motion;
   motion.u = first.u;
-  motion.next = candidate_poses(bodies, participants, motion.u, 0.0, 0.01);
+  motion.next = candidate_poses(w.model, w.state, participants, motion.u, 0.0, 0.01);
   ImpactCache cache;
   std::vector<Contact> contacts;
   StepReport report;

@@ -17,28 +17,29 @@ using testing::plane_body;
 
 // A 1 kg, 0.2 m cube `gap_m` above the floor (body 0), moving at v_z_m_s, and its contacts.
 struct CubeOnFloor {
-  std::vector<RigidBody> bodies;
-  std::vector<double> radius_m;
+  WorldModel model;
+  std::vector<BodyState> bodies;
   std::vector<Contact> contacts;
   std::vector<int> participants{0, 1};
 };
 CubeOnFloor cube_on_floor(double gap_m, double v_z_m_s, double restitution = 0) {
   CubeOnFloor scene;
-  scene.bodies = {plane_body(), cube("cube", {0, 0, 0.1 + gap_m})};
-  scene.bodies[1].v_WBcm_m_s.z() = v_z_m_s;
-  scene.bodies[1].restitution = restitution;
-  scene.radius_m = testing::bounding_radii(scene.bodies);
-  for (const auto& feature : collision::contact_manifold(scene.bodies[0].shape, scene.bodies[0].X_WB,
-                                                         scene.bodies[1].shape, scene.bodies[1].X_WB, 1e-3))
+  std::vector<RigidBody> bodies = {plane_body(), cube("cube", {0, 0, 0.1 + gap_m})};
+  bodies[1].v_WBcm_m_s.z() = v_z_m_s;
+  bodies[1].restitution = restitution;
+  for (const auto& feature :
+       collision::contact_manifold(bodies[0].shape, bodies[0].X_WB, bodies[1].shape, bodies[1].X_WB, 1e-3))
     scene.contacts.push_back({0, 1, feature});
+  testing::StageWorld world = testing::stage_world(bodies);
+  scene.model = std::move(world.model);
+  scene.bodies = std::move(world.state);
   return scene;
 }
 
 TEST(StepSolve, ARowClosesAtMostToTheRestingGapWithinTheStep) {
   const CubeOnFloor scene = cube_on_floor(0.5e-3, 0);
   ASSERT_EQ(scene.contacts.size(), 4u);
-  WorldOptions options;
-  const SolveSetup setup = prepare_solve(scene.bodies, options, 0.01, 0.01, scene.participants, scene.contacts);
+  const SolveSetup setup = prepare_solve(scene.model, scene.bodies, 0.01, 0.01, scene.participants, scene.contacts);
   // 0.5 mm less the 1 um gap over 10 ms: the row lets the cube approach at 0.0499 m/s.
   EXPECT_NEAR(setup.resting_rows[0].min_normal_velocity_m_s, -(0.5e-3 - 1e-6) / 0.01, 1e-12);
   EXPECT_EQ(setup.resting_rows[0].body_a, -1);  // the floor is not an unknown
@@ -50,8 +51,7 @@ TEST(StepSolve, ARowClosesAtMostToTheRestingGapWithinTheStep) {
 TEST(StepSolve, AnApproachThatMeetsWithinTheStepBouncesWithTheRestitution) {
   // 1 m/s down from 0.5 mm: it meets within 10 ms, and leaves at half the speed.
   const CubeOnFloor scene = cube_on_floor(0.5e-3, -1.0, 0.5);
-  WorldOptions options;
-  const SolveSetup setup = prepare_solve(scene.bodies, options, 0.01, 0.01, scene.participants, scene.contacts);
+  const SolveSetup setup = prepare_solve(scene.model, scene.bodies, 0.01, 0.01, scene.participants, scene.contacts);
   EXPECT_NEAR(setup.resting_rows[0].min_normal_velocity_m_s, 0.5, 1e-12);
   // 20 mm above (a contact row the tolerance would not give, built here), 1 m/s does not
   // meet within the step: no bounce yet, the gap bounds the approach.
@@ -59,17 +59,16 @@ TEST(StepSolve, AnApproachThatMeetsWithinTheStepBouncesWithTheRestitution) {
   Contact row_20mm = scene.contacts[0];
   row_20mm.feature.point_B_W.z() += 20e-3 - 0.5e-3;
   row_20mm.feature.distance_m = 20e-3;
-  const SolveSetup far_setup = prepare_solve(far.bodies, options, 0.01, 0.01, far.participants, {});
-  EXPECT_NEAR(contact_row(far.bodies, options, row_20mm, far_setup, far.participants).min_normal_velocity_m_s,
+  const SolveSetup far_setup = prepare_solve(far.model, far.bodies, 0.01, 0.01, far.participants, {});
+  EXPECT_NEAR(contact_row(far.model, far.bodies, row_20mm, far_setup, far.participants).min_normal_velocity_m_s,
               -(20e-3 - 1e-6) / 0.01, 1e-12);
 }
 
 TEST(StepSolve, ARestingCubeIsHeldWithItsWeightOverTheStep) {
   const CubeOnFloor scene = cube_on_floor(1e-6, 0);
-  WorldOptions options;
-  const SolveSetup setup = prepare_solve(scene.bodies, options, 0.01, 0.01, scene.participants, scene.contacts);
+  const SolveSetup setup = prepare_solve(scene.model, scene.bodies, 0.01, 0.01, scene.participants, scene.contacts);
   const StepSolve solved =
-      solve_step(scene.bodies, scene.radius_m, options, setup, scene.participants, scene.contacts, {}, nullptr);
+      solve_step(scene.model, scene.bodies, setup, scene.participants, scene.contacts, {}, nullptr);
   ASSERT_EQ(solved.u.size(), 2u);
   EXPECT_NEAR(solved.u[1].v_WBcm_m_s.z(), 0, 1e-9);
   double impulse_N_s = 0;
@@ -88,10 +87,8 @@ TEST(StepSolve, AMeetingTheSweepFoundIsARowOfTheSolve) {
   hit.point_B_B = {0, 0, -0.1};
   hit.normal_A_B = {0, 0, 1};
   const ImpactMap impacts{{{0, 1}, {hit}}};
-  WorldOptions options;
-  const SolveSetup setup = prepare_solve(scene.bodies, options, 0.01, 0.01, scene.participants, {});
-  const StepSolve solved =
-      solve_step(scene.bodies, scene.radius_m, options, setup, scene.participants, {}, impacts, nullptr);
+  const SolveSetup setup = prepare_solve(scene.model, scene.bodies, 0.01, 0.01, scene.participants, {});
+  const StepSolve solved = solve_step(scene.model, scene.bodies, setup, scene.participants, {}, impacts, nullptr);
   ASSERT_EQ(solved.solved.size(), 1u);
   EXPECT_NEAR(solved.solved[0].feature.distance_m, 0.02, 1e-12);
   // It bounces at the step's boundary with half its approach speed.
@@ -101,18 +98,17 @@ TEST(StepSolve, AMeetingTheSweepFoundIsARowOfTheSolve) {
 
 TEST(StepSolve, TheLaunchGuardSlowsABodyASolveLeftFarTooFast) {
   const CubeOnFloor scene = cube_on_floor(1e-6, 0);
-  WorldOptions options;
-  const SolveSetup setup = prepare_solve(scene.bodies, options, 0.01, 0.01, scene.participants, scene.contacts);
+  const SolveSetup setup = prepare_solve(scene.model, scene.bodies, 0.01, 0.01, scene.participants, scene.contacts);
   std::vector<BodyVelocity> u = setup.u_unconstrained;
   u[0].v_WBcm_m_s = {100, 0, 0};  // what a failed solve might leave
-  EXPECT_EQ(guard_launches(scene.bodies, scene.radius_m, options, setup, scene.participants, setup.resting_rows, u), 1);
+  EXPECT_EQ(guard_launches(scene.model, scene.bodies, setup, scene.participants, setup.resting_rows, u), 1);
   // Twice the fastest motion it couples (the fall's 0.0981 m/s), the depenetration speed
   // and the slack.
   EXPECT_NEAR(u[0].v_WBcm_m_s.norm(), 2 * 0.0981 + 0.05 + 0.5, 1e-9);
   u[0].v_WBcm_m_s = {0, 0, NAN};
-  EXPECT_EQ(guard_launches(scene.bodies, scene.radius_m, options, setup, scene.participants, setup.resting_rows, u), 1);
+  EXPECT_EQ(guard_launches(scene.model, scene.bodies, setup, scene.participants, setup.resting_rows, u), 1);
   EXPECT_EQ(u[0].v_WBcm_m_s, setup.u_unconstrained[0].v_WBcm_m_s);
-  EXPECT_EQ(guard_launches(scene.bodies, scene.radius_m, options, setup, scene.participants, setup.resting_rows, u), 0);
+  EXPECT_EQ(guard_launches(scene.model, scene.bodies, setup, scene.participants, setup.resting_rows, u), 0);
 }
 
 }  // namespace

@@ -16,19 +16,19 @@ using testing::plane_body;
 
 // The floor and a 0.2 m cube `height_m` above it, swept to `drop_m` lower.
 struct Drop {
-  std::vector<RigidBody> bodies;
-  std::vector<double> radius_m;
+  WorldModel model;
+  std::vector<BodyState> bodies;
   std::vector<int> participants{0, 1};
   std::vector<geometry::Pose> next;
   MeshCrossingMemo memo;
   WorkerPool pool{1};
-  WorldOptions options;
-  SweepWorld world() { return {bodies, radius_m, options, memo, pool}; }
+  SweepWorld world() { return {model, bodies, memo, pool}; }
 };
 Drop drop(double height_m, double drop_m) {
   Drop d;
-  d.bodies = {plane_body(), cube("cube", {0, 0, 0.1 + height_m})};
-  d.radius_m = testing::bounding_radii(d.bodies);
+  testing::StageWorld world = testing::stage_world({plane_body(), cube("cube", {0, 0, 0.1 + height_m})});
+  d.model = std::move(world.model);
+  d.bodies = std::move(world.state);
   d.next = {d.bodies[0].X_WB, geometry::translation_pose({0, 0, 0.1 + height_m - drop_m})};
   d.memo.placed_since_step = {0, 0};
   return d;

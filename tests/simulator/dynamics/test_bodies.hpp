@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "simulator/dynamics/rigid_body.hpp"
+#include "simulator/dynamics/world_model.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 
@@ -36,11 +37,20 @@ inline RigidBody mesh_cube(const std::string& id, const Eigen::Vector3d& p, doub
   return b;
 }
 
-// Each body's bounding radius about its origin, as World keeps them for its stages.
-inline std::vector<double> bounding_radii(const std::vector<RigidBody>& bodies) {
-  std::vector<double> radius_m;
-  for (const RigidBody& b : bodies) radius_m.push_back(b.bounding_radius_m());
-  return radius_m;
+// The model and state a World keeps of these bodies, for calling its stages directly.
+struct StageWorld {
+  WorldModel model;
+  std::vector<BodyState> state;
+};
+inline StageWorld stage_world(const std::vector<RigidBody>& bodies, WorldOptions options = {}) {
+  StageWorld w;
+  w.model.options = std::move(options);
+  for (const RigidBody& b : bodies) {
+    w.model.bodies.push_back(b);
+    w.model.radius_m.push_back(b.bounding_radius_m());
+    w.state.push_back(b);
+  }
+  return w;
 }
 
 }  // namespace arphys::dynamics::testing

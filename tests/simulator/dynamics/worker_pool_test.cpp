@@ -51,9 +51,9 @@ TEST(WorkerPool, AWorldStepsToTheSameBitsOnAnyNumberOfThreads) {
     three.step(0.01);
     most_contacts = std::max(most_contacts, one.contacts().size());
     ASSERT_EQ(one.contacts().size(), three.contacts().size()) << "step " << step;
-    for (std::size_t i = 0; i < one.bodies().size(); ++i) {
-      const RigidBody& a = one.bodies()[i];
-      const RigidBody& b = three.bodies()[i];
+    for (int i = 0; i < one.body_count(); ++i) {
+      const RigidBody& a = one.body_copy(i);
+      const RigidBody& b = three.body_copy(i);
       ASSERT_TRUE(a.X_WB.matrix() == b.X_WB.matrix() && a.v_WBcm_m_s == b.v_WBcm_m_s && a.w_WB_rad_s == b.w_WB_rad_s)
           << a.id << " differs at step " << step;
     }

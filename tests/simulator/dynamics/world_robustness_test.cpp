@@ -98,7 +98,7 @@ TEST(WorldRobustness, RestingContactCausesNoEvents) {
     ASSERT_FALSE(report.events_capped);
   }
   EXPECT_EQ(events, 0);
-  EXPECT_NEAR(world.bodies()[b].X_WB.translation().z(), 0.1 + world.options().contact_gap_m, 1e-12);
+  EXPECT_NEAR(world.body_state(b).X_WB.translation().z(), 0.1 + world.options().contact_gap_m, 1e-12);
 }
 
 // Boxes resting flat on the floor, frictionless: each one's four corner rows are found
@@ -115,7 +115,7 @@ TEST(WorldRobustness, RestingBoxesAreSolvedInOneActiveSetIterationEach) {
   EXPECT_EQ(report.events, 0);
   EXPECT_LE(report.solver_iterations, 10);
   EXPECT_LT(report.kkt_residual_m_s, 1e-9);
-  EXPECT_NEAR(world.bodies().back().X_WB.translation().z(), 0.1 + 1e-6, 1e-9);
+  EXPECT_NEAR(world.body_copies().back().X_WB.translation().z(), 0.1 + 1e-6, 1e-9);
 }
 
 // A resting stack falls as one under gravity, so only its ground rows are violated by
@@ -133,7 +133,7 @@ TEST(WorldRobustness, RestingStackIsSolvedInOneIterationFromThePreviousStep) {
   EXPECT_EQ(report.events, 0);
   EXPECT_EQ(report.solver_iterations, 1);
   EXPECT_LT(report.kkt_residual_m_s, 1e-9);
-  EXPECT_NEAR(world.bodies().back().X_WB.translation().z(), 0.5 + 3 * gap, 1e-9);
+  EXPECT_NEAR(world.body_copies().back().X_WB.translation().z(), 0.5 + 3 * gap, 1e-9);
 }
 
 // A box spinning at 30 rad/s near its intermediate axis, free, at dt = 10 ms (0.3 rad per
@@ -149,8 +149,10 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
   b.mass = geometry::with_mass(geometry::box_mass_properties({0.3, 0.2, 0.1}, 1000), 1.0);
   b.w_WB_rad_s = Eigen::Vector3d(1, 30, 1);
   world.add_body(b);
-  auto energy = [&] { return world.bodies()[0].kinetic_energy_J(); };
-  auto momentum = [&] { return Eigen::Vector3d(world.bodies()[0].inertia_W() * world.bodies()[0].w_WB_rad_s); };
+  auto energy = [&] { return kinetic_energy_J(world.body_model(0), world.body_state(0)); };
+  auto momentum = [&] {
+    return Eigen::Vector3d(inertia_W(world.body_model(0), world.body_state(0)) * world.body_state(0).w_WB_rad_s);
+  };
   const double e0 = energy();
   const Eigen::Vector3d L0 = momentum();
   double worst_energy = 0, worst_size = 0, worst_direction = 0, fastest = 0;
@@ -159,7 +161,7 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
     worst_energy = std::max(worst_energy, std::abs(energy() / e0 - 1));
     worst_size = std::max(worst_size, std::abs(momentum().norm() / L0.norm() - 1));
     worst_direction = std::max(worst_direction, (momentum() - L0).norm() / L0.norm());
-    fastest = std::max(fastest, world.bodies()[0].w_WB_rad_s.norm());
+    fastest = std::max(fastest, world.body_state(0).w_WB_rad_s.norm());
   }
   EXPECT_LT(worst_energy, 1e-4);
   EXPECT_LT(worst_size, 1e-4);
@@ -179,12 +181,12 @@ TEST(WorldRobustness, StepsCutByImpactsAddGravityOnce) {
   right.w_WB_rad_s = Eigen::Vector3d(0, -10, 0);
   const int a = world.add_body(left);
   const int b = world.add_body(right);
-  const double mass = world.bodies()[a].mass.mass_kg + world.bodies()[b].mass.mass_kg;
+  const double mass = world.body_model(a).mass.mass_kg + world.body_model(b).mass.mass_kg;
   int events = 0;
   for (int k = 0; k < 50; ++k) {
     events += world.step(0.01).events;
-    const Eigen::Vector3d momentum =
-        world.bodies()[a].mass.mass_kg * world.bodies()[a].v_WBcm_m_s + world.bodies()[b].mass.mass_kg * world.bodies()[b].v_WBcm_m_s;
+    const Eigen::Vector3d momentum = world.body_model(a).mass.mass_kg * world.body_state(a).v_WBcm_m_s +
+                                     world.body_model(b).mass.mass_kg * world.body_state(b).v_WBcm_m_s;
     ASSERT_NEAR(momentum.z(), -mass * 9.81 * 0.01 * (k + 1), 1e-9) << "step " << k;
     ASSERT_NEAR(momentum.head<2>().norm(), 0.0, 1e-9) << "step " << k;
   }
@@ -206,7 +208,7 @@ TEST(WorldRobustness, IslandsTooLargeForTheExactSolverAreSolvedIterativelyAndCou
   EXPECT_EQ(report.contacts, 16);
   EXPECT_EQ(report.iterative_islands, 1);  // the stack's 12 rows; the lone box's 4 are exact
   EXPECT_LT(report.kkt_residual_m_s, 1e-3);
-  EXPECT_NEAR(world.bodies()[3].X_WB.translation().z(), 0.5 + 2e-6, 1e-5);
+  EXPECT_NEAR(world.body_state(3).X_WB.translation().z(), 0.5 + 2e-6, 1e-5);
 }
 
 // A 1 kg ball of 5 cm radius on the x axis moving along it (the chain tests).
@@ -236,7 +238,7 @@ TEST(WorldRobustness, AnImpactThatSendsABodyIntoAnotherGroupMergesTheGroups) {
   const int c = world.add_body(ball("c", 0.25, 0.0));   // 3 cm beyond b: out of a's and b's first sweeps
   const StepReport report = world.step(0.01);
   EXPECT_FALSE(report.events_capped);
-  const auto& bodies = world.bodies();
+  const auto& bodies = world.body_copies();
   EXPECT_GE((bodies[b].X_WB.translation() - bodies[a].X_WB.translation()).norm(), 0.1 - 1e-6);
   EXPECT_GE((bodies[c].X_WB.translation() - bodies[b].X_WB.translation()).norm(), 0.1 - 1e-6);
   // An elastic chain of equal masses: the speed ends in c.
@@ -260,7 +262,7 @@ TEST(WorldRobustness, ABounceAChainBroughtAboutIsHeldBackOneStepNotCut) {
   const int c = world.add_body(ball("c", 0.25, 0.0));
   EXPECT_EQ(world.step(0.01).events, 0);
   world.step(0.01);
-  const auto& bodies = world.bodies();
+  const auto& bodies = world.body_copies();
   const auto v = [&](int i) { return bodies[i].v_WBcm_m_s.x(); };
   EXPECT_NEAR(v(a) + v(b) + v(c), 10.0, 1e-9);
   EXPECT_LT(v(a) * v(a) + v(b) * v(b) + v(c) * v(c), 100.0);
@@ -303,7 +305,7 @@ TEST(WorldRobustness, ACutSweepsOnlyThePairsItChanged) {
   }
   const StepReport report = world.step(0.01);
   EXPECT_EQ(report.events, 1);
-  const auto& bodies = world.bodies();
+  const auto& bodies = world.body_copies();
   EXPECT_NEAR(bodies[c].v_WBcm_m_s.x(), 10.0, 0.1);
   EXPECT_NEAR(bodies[a].v_WBcm_m_s.norm(), 0.0, 0.1);
   for (int r : row) {  // untouched
@@ -349,7 +351,7 @@ TEST(WorldRobustness, TumblingPileEndsEveryStepWithinTheOverlapTolerance) {
   double deepest = 0;
   for (int step = 0; step < 800; ++step) {
     world.step(1e-3);
-    const auto& bodies = world.bodies();
+    const auto& bodies = world.body_copies();
     for (std::size_t i = 1; i < bodies.size(); ++i)
       for (std::size_t j = i + 1; j < bodies.size(); ++j)
         for (const auto& p : collision::contact_manifold(bodies[i].shape, bodies[i].X_WB, bodies[j].shape, bodies[j].X_WB, 0.0))
@@ -379,7 +381,7 @@ TEST(WorldRobustness, TumblingPileLiftsDeepPointsByMovingPosesNotBySolvingAgain)
       r.solves += report.solver_iterations;
       r.rounds += report.impacts_resolved;
     }
-    for (const auto& body : world.bodies()) r.energy_J += body.kinetic_energy_J();
+    for (const auto& body : world.body_copies()) r.energy_J += body.kinetic_energy_J();
     return r;
   };
   const Run projected = run(true), resolved = run(false);
@@ -425,7 +427,7 @@ TEST(WorldRobustness, ASphereLandingOnAPlaneIsConstrainedInTheStep) {
   const StepReport report = world.step(1e-3);
   EXPECT_GE(report.impacts_resolved, 1);
   EXPECT_EQ(report.events, 0);
-  const RigidBody& landed = world.bodies()[b];
+  const RigidBody& landed = world.body_copy(b);
   // Inelastic: it stops, as every impact, at the step boundary (the velocity update of a
   // symplectic Euler step), on or above the plane.
   EXPECT_GE(landed.X_WB.translation().z(), 0.05 - world.options().overlap_tolerance_m);
@@ -445,11 +447,11 @@ TEST(WorldRobustness, RestingPairsAreCheckedAtTheEndNotSwept) {
   world.add_body(base);
   const double gap = world.options().contact_gap_m;
   const int top = world.add_body(cube("top", {0, 0, 0.3 + gap}));
-  world.set_velocity(top, {0.1, 0, 0}, world.body(top).w_WB_rad_s);  // 0.1 mm per step, frictionless
+  world.set_velocity(top, {0.1, 0, 0}, world.body_state(top).w_WB_rad_s);  // 0.1 mm per step, frictionless
   int queries = 0;
   for (int k = 0; k < 100; ++k) queries += world.step(1e-3).ccd_queries;
   EXPECT_EQ(queries, 0);
-  const RigidBody& b = world.bodies()[top];
+  const RigidBody& b = world.body_copy(top);
   EXPECT_NEAR(b.X_WB.translation().x(), 0.01, 1e-12);
   EXPECT_GE(b.X_WB.translation().z(), 0.3 - world.options().overlap_tolerance_m);
   EXPECT_LE(b.X_WB.translation().z(), 0.3 + 2 * gap);
@@ -499,7 +501,7 @@ TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
     fixed.motion = BodyMotion::kStatic;
     world.add_body(fixed);
     const int slider = world.add_body(mesh_cube("slider", {-0.05, 0, 0.0805}));
-    world.set_velocity(slider, {speed_m_s, 0, 0}, world.body(slider).w_WB_rad_s);
+    world.set_velocity(slider, {speed_m_s, 0, 0}, world.body_state(slider).w_WB_rad_s);
     std::vector<int> tests, queries;
     for (int k = 0; k < 20; ++k) {
       const StepReport report = world.step(0.01);
@@ -510,7 +512,7 @@ TEST(WorldRobustness, MeshPairsProvenApartAtAStepsEndAreNotTestedAgain) {
     EXPECT_EQ(tests.front(), 1);  // nothing known at the first step's start
     for (int k = 1; k < 20; ++k) EXPECT_EQ(tests[k], 0) << "step " << k;
     EXPECT_EQ(queries[5], speed_m_s > 0.1 ? 1 : 0);  // (swept, or checked at the end)
-    const RigidBody& b = world.bodies()[slider];
+    const RigidBody& b = world.body_copy(slider);
     EXPECT_NEAR(b.X_WB.translation().x(), -0.05 + 20 * 0.01 * speed_m_s, 1e-12);
     EXPECT_NEAR(b.X_WB.translation().z(), 0.0805, 1e-12);
   }
@@ -531,7 +533,7 @@ TEST(WorldRobustness, SqueezedBodyIsReportedNotLaunched) {
   for (int k = 0; k < 300; ++k) {
     const StepReport report = world.step(1e-3);
     infeasible |= report.infeasible;
-    const RigidBody& body = world.bodies()[b];
+    const RigidBody& body = world.body_copy(b);
     ASSERT_TRUE(body.X_WB.matrix().allFinite()) << "step " << k;
     ASSERT_TRUE(body.v_WBcm_m_s.allFinite() && body.w_WB_rad_s.allFinite()) << "step " << k;
     ASSERT_LE(body.v_WBcm_m_s.norm(), 1.0) << "launched at step " << k;
@@ -562,11 +564,11 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
     }
   World world = arphys::scene::build_world(scene);
   int bunny = -1;
-  for (int i = 0; i < static_cast<int>(world.bodies().size()); ++i)
-    if (world.bodies()[i].is_dynamic()) bunny = i;
+  for (int i = 0; i < static_cast<int>(world.body_count()); ++i)
+    if (world.body_model(i).is_dynamic()) bunny = i;
   ASSERT_GE(bunny, 0);
   const auto energy_J = [&] {
-    const RigidBody& b = world.bodies()[bunny];
+    const RigidBody& b = world.body_copy(bunny);
     return b.kinetic_energy_J() - b.mass.mass_kg * world.options().gravity_m_s2.dot(b.com_W());
   };
   double energy_before = energy_J(), fastest_spin = 0;
@@ -576,10 +578,10 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
     const double energy_after = energy_J();
     ASSERT_LE(energy_after, energy_before + 1e-9) << "step " << k;
     energy_before = energy_after;
-    fastest_spin = std::max(fastest_spin, world.bodies()[bunny].w_WB_rad_s.norm());
+    fastest_spin = std::max(fastest_spin, world.body_state(bunny).w_WB_rad_s.norm());
   }
   EXPECT_GT(fastest_spin, 5.0);  // it did land off-centre (12 rad/s here)
-  EXPECT_NEAR(world.bodies()[bunny].com_W().z(), 0.04, 0.02);  // and rests on the table
+  EXPECT_NEAR(com_W(world.body_model(bunny), world.body_state(bunny)).z(), 0.04, 0.02);  // and rests on the table
 }
 
 // The launch guard: a frictional bunny pile pushed by the box (the scene that produced
@@ -599,7 +601,7 @@ TEST(WorldRobustness, FrictionalPileIsNeverLaunched) {
 #endif
   for (int i = 0; i < steps; ++i) {
     prevented += world.step(0.01).launches_prevented;
-    for (const RigidBody& b : world.bodies()) {
+    for (const RigidBody& b : world.body_copies()) {
       ASSERT_TRUE(b.X_WB.matrix().allFinite()) << b.id << " at step " << i;
       // Bodies past 10 m are gone in the simulator process (SimulatorCore's world
       // radius). Within it a bunny can have fallen 11 m from the table: 14.7 m/s, plus
@@ -631,7 +633,7 @@ TEST(WorldRobustness, EventsPerStepAreCapped) {
     ASSERT_LE(report.events, options.max_events_per_step);
     ASSERT_LE(report.max_penetration_m, 1e-3) << "step " << k;
   }
-  for (const RigidBody& body : world.bodies()) {
+  for (const RigidBody& body : world.body_copies()) {
     if (body.is_dynamic()) {
       EXPECT_GT(body.X_WB.translation().z(), 0.09) << body.id;  // all above the floor
     }
@@ -664,8 +666,8 @@ TEST(WorldContracts, SettersRefuseWhatABodyCannotTakeNamingIt) {
             std::string::npos);
   // The origin's velocity: the centre of mass 5 cm off it moves with w x r besides.
   world.set_origin_velocity(cube, {0, 0, 0}, {0, 0, 2});
-  EXPECT_TRUE(world.body(cube).v_WBcm_m_s.isApprox(Eigen::Vector3d(0, 0.1, 0), 1e-12));
-  EXPECT_TRUE(world.body(cube).origin_velocity().isZero(1e-12));
+  EXPECT_TRUE(world.body_state(cube).v_WBcm_m_s.isApprox(Eigen::Vector3d(0, 0.1, 0), 1e-12));
+  EXPECT_TRUE(origin_velocity(world.body_model(cube), world.body_state(cube)).isZero(1e-12));
 }
 
 }  // namespace

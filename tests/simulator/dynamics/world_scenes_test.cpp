@@ -60,7 +60,7 @@ TEST(WorldScenes, FrictionlessBoxOnInclineAcceleratesAtGSin30) {
       deepest = std::max(deepest, report.max_penetration_m);
       EXPECT_FALSE(report.events_capped);
     }
-    const RigidBody& body = world.bodies()[b];
+    const RigidBody& body = world.body_copy(b);
     const Eigen::Vector3d down_slope(-std::cos(slope), 0, -std::sin(slope));
     EXPECT_NEAR(body.v_WBcm_m_s.dot(down_slope) / 1.0, 9.81 * 0.5, 1e-9) << "dt " << dt;
     EXPECT_NEAR(body.v_WBcm_m_s.dot(n), 0.0, 1e-9);
@@ -96,7 +96,7 @@ TEST(WorldScenes, FrictionOnAnInclineIsTheSameInEveryHeading) {
       block.friction = mu;
       const int b = world.add_body(block);
       for (int k = 0; k < 1000; ++k) world.step(1e-3);
-      const RigidBody& body = world.bodies()[b];
+      const RigidBody& body = world.body_copy(b);
       const Eigen::Vector3d down_slope = turn.linear() * Eigen::Vector3d(-std::cos(slope), 0, -std::sin(slope));
       const double expected_m_s = std::max(0.0, 9.81 * (std::sin(slope) - mu * std::cos(slope)));
       SCOPED_TRACE("mu " + std::to_string(mu) + ", heading " + std::to_string(heading_deg) + " deg");
@@ -115,17 +115,17 @@ void run_stack(int n, double dt, double duration, double* top_drift_m, double* w
   world.add_body(ground());
   std::vector<int> ids;
   for (int i = 0; i < n; ++i) ids.push_back(world.add_body(box("box" + std::to_string(i), at({0, 0, 0.1 + 0.2 * i}))));
-  const Eigen::Vector3d top0 = world.bodies()[ids.back()].X_WB.translation();
+  const Eigen::Vector3d top0 = world.body_state(ids.back()).X_WB.translation();
   *top_drift_m = 0;
   *worst_tilt_rad = 0;
   *capped = false;
   const int steps = static_cast<int>(std::round(duration / dt));
   for (int k = 0; k < steps; ++k) {
     *capped |= world.step(dt).events_capped;
-    *top_drift_m = std::max(*top_drift_m, (world.bodies()[ids.back()].X_WB.translation() - top0).norm());
+    *top_drift_m = std::max(*top_drift_m, (world.body_state(ids.back()).X_WB.translation() - top0).norm());
   }
   for (int id : ids)
-    *worst_tilt_rad = std::max(*worst_tilt_rad, Eigen::AngleAxisd(world.bodies()[id].X_WB.linear()).angle());
+    *worst_tilt_rad = std::max(*worst_tilt_rad, Eigen::AngleAxisd(world.body_state(id).X_WB.linear()).angle());
 }
 
 TEST(WorldScenes, FrictionlessStacksOfFiveAndTenStayUp) {
@@ -175,11 +175,11 @@ TEST(WorldScenes, FastSphereNeverTunnelsThroughThinWall) {
     double furthest = 0;
     for (int s = 0; s < 20; ++s) {
       world.step(dt);
-      furthest = std::max(furthest, world.bodies()[b].X_WB.translation().x());
+      furthest = std::max(furthest, world.body_state(b).X_WB.translation().x());
     }
     EXPECT_LE(furthest + 0.02, 1.0 - 0.0025 + 1e-6) << "phase " << k;  // never beyond the wall's near face
     // Inelastic: stopped, up to the slow push that keeps the resting gap.
-    EXPECT_NEAR(world.bodies()[b].v_WBcm_m_s.x(), 0.0, 5e-3) << "phase " << k;
+    EXPECT_NEAR(world.body_state(b).v_WBcm_m_s.x(), 0.0, 5e-3) << "phase " << k;
   }
 }
 
@@ -221,13 +221,13 @@ PushResult run_push(double dt, double noise_m, std::optional<double> friction, b
   PushResult result;
   for (int s = 0; s < static_cast<int>(std::round(4.0 / dt)); ++s) {
     world.step(dt);
-    const RigidBody& box_body = world.bodies()[b];
-    const RigidBody& pusher_body = world.bodies()[p];
+    const RigidBody& box_body = world.body_copy(b);
+    const RigidBody& pusher_body = world.body_copy(p);
     result.peak_box_speed = std::max(result.peak_box_speed, box_body.v_WBcm_m_s.norm());
     result.peak_pusher_speed = std::max(result.peak_pusher_speed, pusher_body.v_WBcm_m_s.norm());
     result.max_overlap_m = std::max(result.max_overlap_m, pusher_body.X_WB.translation().x() + 0.2 - box_body.X_WB.translation().x());
   }
-  result.final_box_x = world.bodies()[b].X_WB.translation().x();
+  result.final_box_x = world.body_state(b).X_WB.translation().x();
   return result;
 }
 
@@ -277,7 +277,7 @@ TEST(WorldScenes, FrictionCarriesABoxOnAMovingTrackedTray) {
     load.friction = 0.5;
     const int b = world.add_body(load);
     for (int s = 0; s < static_cast<int>(std::round(1.0 / dt)); ++s) world.step(dt);
-    const RigidBody& carried = world.bodies()[b];
+    const RigidBody& carried = world.body_copy(b);
     EXPECT_NEAR(carried.v_WBcm_m_s.x(), 0.2, 2e-3) << "dt " << dt;
     // It slips only while friction (mu g = 4.9 m/s^2) brings it up to speed: 4 mm at most.
     EXPECT_NEAR(carried.X_WB.translation().x(), 0.2, 5e-3) << "dt " << dt;
@@ -298,8 +298,8 @@ TEST(WorldScenes, ElasticBallKeepsItsApexOverTenBounces) {
     std::vector<double> apexes;
     for (int s = 0; s < static_cast<int>(12.0 / dt) && bounces <= 10; ++s) {
       world.step(dt);
-      const double z = world.bodies()[b].X_WB.translation().z() - 0.1;
-      const double vz = world.bodies()[b].v_WBcm_m_s.z();
+      const double z = world.body_state(b).X_WB.translation().z() - 0.1;
+      const double vz = world.body_state(b).v_WBcm_m_s.z();
       apex = std::max(apex, z);
       if (last_vz > 0 && vz <= 0) {  // passing the top
         apexes.push_back(apex);

@@ -35,7 +35,7 @@ void step_watching_x(SimulatorCore& core, int body, double t_s, XWatch& watch) {
   const double dt = core.time_step_s();
   while (core.sim_time_s() + dt <= t_s + 1e-12) {
     core.advance_to(core.sim_time_s() + dt);
-    const double x = core.world().bodies()[body].X_WB.translation().x();
+    const double x = core.world().body_state(body).X_WB.translation().x();
     watch.fastest_m_s = std::max(watch.fastest_m_s, (x - watch.x_m) / dt);
     watch.x_m = x;
   }
@@ -70,13 +70,13 @@ TEST(SimulatorCore, TrackedBoxFollowsOneFrameLateAndIsHeldWhenLost) {
   core.advance_to(core.sim_time_of(kStart + 30 * 33'333));
   EXPECT_NEAR(core.added_latency_s("box"), 1.0 / 30, 2e-3);
   // One frame behind the last measurement (0.55 m), along the path (within a 10 ms step).
-  EXPECT_NEAR(core.world().bodies()[box].X_WB.translation().x(), 0.54, 4e-3);
+  EXPECT_NEAR(core.world().body_state(box).X_WB.translation().x(), 0.54, 4e-3);
   EXPECT_TRUE(core.lost_objects().empty());
   // No more frames: after the stale timeout the box is held where it is.
   core.advance_to(core.sim_time_s() + 1.0);
-  const double held = core.world().bodies()[box].X_WB.translation().x();
+  const double held = core.world().body_state(box).X_WB.translation().x();
   core.advance_to(core.sim_time_s() + 1.0);
-  EXPECT_EQ(core.world().bodies()[box].X_WB.translation().x(), held);
+  EXPECT_EQ(core.world().body_state(box).X_WB.translation().x(), held);
   EXPECT_EQ(core.lost_objects(), std::vector<std::string>{"box"});
 }
 
@@ -102,10 +102,10 @@ TEST(SimulatorCore, ALostTrackHoldsTheBoxAtOnceAndTheNextPoseReacquiresIt) {
   EXPECT_EQ(core.rejected_total(), 1);  // the LOST status was not one
   core.advance_to(core.sim_time_of(kStart + 17 * 33'333) + 0.2);  // well within the stale timeout
   // Held where it was last seen (0.40 m; one frame late, it got there as the LOST frame came).
-  const double held_x = core.world().bodies()[box].X_WB.translation().x();
+  const double held_x = core.world().body_state(box).X_WB.translation().x();
   EXPECT_NEAR(held_x, 0.40, 1e-6);
   core.advance_to(core.sim_time_s() + 0.1);
-  EXPECT_EQ(core.world().bodies()[box].X_WB.translation().x(), held_x);
+  EXPECT_EQ(core.world().body_state(box).X_WB.translation().x(), held_x);
   // Seen again 10 cm further: it moves there, at most 1.5 m/s (the driver's limit).
   const double t = core.sim_time_s();
   core.on_tracking(frame(kStart + 30 * 33'333, 31, "box", {held_x + 0.1, 0, 0.0755}));
@@ -141,16 +141,16 @@ TEST(SimulatorCore, PauseFreezesTheWorldAndResumeGoesOnFromWhereItWas) {
   ASSERT_TRUE(core.on_command(command));
   EXPECT_TRUE(core.paused());
   const double paused_at_s = core.sim_time_s();
-  const std::vector<dynamics::RigidBody> frozen = core.world().bodies();
+  const std::vector<dynamics::RigidBody> frozen = core.world().body_copies();
   feed(0.5 + 1.0 / 30, 2.5, 0.25 - 0.1 * 0.5, 0.1);  // 2 s paused; the box moved 20 cm meanwhile
   EXPECT_EQ(core.sim_time_s(), paused_at_s);
   for (std::size_t i = 0; i < frozen.size(); ++i)
-    EXPECT_TRUE(core.world().bodies()[i].X_WB.matrix() == frozen[i].X_WB.matrix()) << frozen[i].id;
+    EXPECT_TRUE(core.world().body_state(i).X_WB.matrix() == frozen[i].X_WB.matrix()) << frozen[i].id;
   command.seq = 2;
   command.kind = SpawnRequest::Kind::kResume;
   ASSERT_TRUE(core.on_command(command));
   EXPECT_FALSE(core.paused());
-  XWatch watch{core.world().bodies()[box].X_WB.translation().x()};
+  XWatch watch{core.world().body_state(box).X_WB.translation().x()};
   for (double t = 2.5 + 1.0 / 30; t <= 3.7 + 1e-9; t += 1.0 / 30) {
     const int64_t utime = kStart + std::llround(t * 1e6);
     core.on_tracking(frame(utime, ++seq, "box", {0.45, 0, 0.0755}));  // it stays where it was moved to
@@ -172,7 +172,7 @@ TEST(SimulatorCore, ExtrapolatePolicyAddsNoLatency) {
   for (int k = 0; k <= 30; ++k) core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
   core.advance_to(core.sim_time_of(kStart + 30 * 33'333));
   EXPECT_EQ(core.added_latency_s("box"), 0.0);
-  EXPECT_NEAR(core.world().bodies()[box].X_WB.translation().x(), 0.55, 3e-3);
+  EXPECT_NEAR(core.world().body_state(box).X_WB.translation().x(), 0.55, 3e-3);
 }
 
 // A live simulator that cannot keep up gives simulation time up (arphys-simulator
@@ -183,7 +183,7 @@ TEST(SimulatorCore, GivenUpTimeMovesCapturesEarlierAndTheTrackedBoxCoversIt) {
   scene.time_step_s = 0.01;
   SimulatorCore core(scene, {});
   const int box = core.world().find("box");
-  const auto box_x = [&] { return core.world().bodies()[box].X_WB.translation().x(); };
+  const auto box_x = [&] { return core.world().body_state(box).X_WB.translation().x(); };
   for (int k = 0; k <= 30; ++k)  // 1 s at 30 Hz, moving +x at 0.3 m/s
     core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
   const int64_t newest = kStart + 30 * 33'333;
@@ -223,7 +223,7 @@ TEST(SimulatorCore, GivenUpTimeLeavesAnExtrapolatedBoxOnItsMeasurements) {
   options.policy = TrackingPolicy::kExtrapolate;
   SimulatorCore core(scene, options);
   const int box = core.world().find("box");
-  const auto box_x = [&] { return core.world().bodies()[box].X_WB.translation().x(); };
+  const auto box_x = [&] { return core.world().body_state(box).X_WB.translation().x(); };
   for (int k = 0; k <= 30; ++k) {
     core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 + 0.01 * k, 0, 0.0755}));
     core.advance_to(core.sim_time_of(kStart + k * 33'333));
@@ -241,14 +241,14 @@ TEST(SimulatorCore, GivenUpTimeLeavesAnExtrapolatedBoxOnItsMeasurements) {
 
 TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
   SimulatorCore core(config::load_scene(kScenes + "bunny_box_table.yaml"), {});
-  const std::size_t before = core.world().bodies().size();
+  const std::size_t before = core.world().body_count();
   SpawnRequest spawn;
   spawn.sender = "test";
   spawn.model = "bunny";
   spawn.X_WB = geometry::translation_pose({0, 0, 0.3});
   spawn.seq = 1;
   EXPECT_TRUE(core.on_command(spawn));
-  EXPECT_EQ(core.world().bodies().size(), before + 1);
+  EXPECT_EQ(core.world().body_count(), before + 1);
   EXPECT_FALSE(core.on_command(spawn));  // the same seq again: a repeat
   spawn.seq = 2;
   spawn.v_WB_m_s = Eigen::Vector3d(100, 0, 0);
@@ -268,7 +268,7 @@ TEST(SimulatorCore, SpawnRequestsBeyondLimitsAreRefused) {
     core.on_command(spawn);
   }
   int bunnies = 0;
-  for (const auto& body : core.world().bodies()) bunnies += body.model == "bunny";
+  for (const auto& body : core.world().body_copies()) bunnies += body.model == "bunny";
   EXPECT_EQ(bunnies, 20);  // max_instances
   EXPECT_GE(core.rejected_total(), 4 + 20);
   SpawnRequest remove;
@@ -318,7 +318,7 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   }
   before.advance_to(0.2);
   std::vector<RecoveredBody> saved;
-  for (const auto& body : before.world().bodies()) {
+  for (const auto& body : before.world().body_copies()) {
     if (body.real || !body.is_dynamic()) continue;
     saved.push_back({body.id, body.model, body.X_WB, body.origin_velocity(), body.w_WB_rad_s});
   }
@@ -331,7 +331,7 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   // Touching bunny#3 as bunnies at rest do: 0.1 mm into it along x (where a shift along x
   // stops their meshes intersecting, found by bisection). A spawn there would be refused;
   // a resumed body was there in the world before the restart and comes back.
-  const dynamics::RigidBody& third = before.world().bodies()[before.world().find("bunny#3")];
+  const dynamics::RigidBody& third = before.world().body_copy(before.world().find("bunny#3"));
   const collision::CollisionMesh& mesh = *third.shape.triangles();
   const auto shifted = [&](double x_m) {
     geometry::Pose X = third.X_WB;
@@ -363,7 +363,7 @@ TEST(SimulatorCore, RestartResumesVirtualBodiesAndListsWhatItCannot) {
   for (const RecoveredBody& b : saved) {
     const int index = after.world().find(b.body_id);
     ASSERT_GE(index, 0) << b.body_id;
-    const auto& body = after.world().bodies()[index];
+    const auto& body = after.world().body_copy(index);
     EXPECT_LT((body.X_WB.matrix() - b.X_WB.matrix()).norm(), 1e-12) << b.body_id;
     EXPECT_LT((body.origin_velocity() - b.v_WB_m_s).norm(), 1e-12) << b.body_id;
   }
@@ -385,11 +385,11 @@ TEST(SimulatorCore, RestartPutsTheTrackedBoxBackAndMovesItOnSmoothly) {
   RecoveredBody box{"box", "box", geometry::translation_pose(saved_at)};
   core.recover({box});
   const int index = core.world().find("box");
-  EXPECT_LT((core.world().bodies()[index].X_WB.translation() - saved_at).norm(), 1e-12);
+  EXPECT_LT((core.world().body_state(index).X_WB.translation() - saved_at).norm(), 1e-12);
   core.on_tracking(frame(kStart, 1, "box", saved_at + Eigen::Vector3d(0.15, 0, 0)));
-  const Eigen::Vector3d before = core.world().bodies()[index].X_WB.translation();
+  const Eigen::Vector3d before = core.world().body_state(index).X_WB.translation();
   core.advance_to(core.time_step_s());
-  const double moved_m = (core.world().bodies()[index].X_WB.translation() - before).norm();
+  const double moved_m = (core.world().body_state(index).X_WB.translation() - before).norm();
   EXPECT_GT(moved_m, 0.0);
   EXPECT_LE(moved_m, 1.5 * core.time_step_s() + 1e-9);  // the tracking driver's 1.5 m/s
 }
@@ -438,7 +438,7 @@ TEST(SimulatorCore, SameInputsGiveIdenticalWorlds) {
       core.on_tracking(frame(kStart + k * 33'333, k + 1, "box", {0.25 - 0.008 * k, 0.002 * (k % 3), 0.0755}));
     core.advance_to(core.sim_time_of(kStart + 60 * 33'333));
     std::vector<Eigen::Matrix4d> poses;
-    for (const auto& body : core.world().bodies()) poses.push_back(body.X_WB.matrix());
+    for (const auto& body : core.world().body_copies()) poses.push_back(body.X_WB.matrix());
     return poses;
   };
   const auto a = run(1), b = run(1), c = run(2);
@@ -465,8 +465,8 @@ TEST(SimulatorCore, SpoonProxyStopsAtTheTeacup) {
     core.on_tracking(frame(kStart + k * 33'333, k + 1, "spoon", {0.3 - 0.005 * k, 0, 0.035}));  // into the wall at x ~ 0.08
     core.advance_to(core.sim_time_of(kStart + k * 33'333));
     contact |= !core.proxy_contacts().empty();
-    proxy_x.push_back(core.world().bodies()[spoon].X_WB.translation().x());
-    const auto& bodies = core.world().bodies();
+    proxy_x.push_back(core.world().body_state(spoon).X_WB.translation().x());
+    const auto& bodies = core.world().body_copies();
     ASSERT_FALSE(collision::intersects(*bodies[spoon].shape.triangles(), bodies[spoon].X_WB, *bodies[cup].shape.triangles(),
                                        bodies[cup].X_WB))
         << "frame " << k;

@@ -62,8 +62,8 @@ TEST(SceneWorld, UprightBunnyDroppedFromLowHeightsRestsOnTheTable) {
     body.X_WB = X;
     const int index = world.add_body(std::move(body));
     for (int k = 0; k < 100; ++k) world.step(0.01);
-    EXPECT_GT(lowest_z(world.bodies()[index]), -1e-5) << "dropped from " << gap_m << " m";
-    EXPECT_LT(lowest_z(world.bodies()[index]), 1e-3) << "dropped from " << gap_m << " m";
+    EXPECT_GT(lowest_z(world.body_copy(index)), -1e-5) << "dropped from " << gap_m << " m";
+    EXPECT_LT(lowest_z(world.body_copy(index)), 1e-3) << "dropped from " << gap_m << " m";
   }
 }
 
@@ -77,20 +77,23 @@ TEST(SceneWorld, AMeshSlidingSlowlyOnTheTableIsCheckedAtTheEndOfItsMotionNotSwep
   World world = table_and_box();
   const int index = add_tilted_mesh_cube(world, 0.0005);  // an edge 0.5 mm up
   for (int k = 0; k < 100; ++k) world.step(0.01);  // lands and settles
-  const RigidBody& body = world.bodies()[index];
-  const RigidBody& table = world.bodies()[world.find("table")];
-  const Eigen::Vector3d rest = body.X_WB.translation();
+  const BodyModel& body = world.body_model(index);
+  const BodyState& now = world.body_state(index);  // (a reference: it follows the steps)
+  const int table_index = world.find("table");
+  const BodyModel& table = world.body_model(table_index);
+  const geometry::Pose X_WT = world.body_state(table_index).X_WB;
+  const Eigen::Vector3d rest = now.X_WB.translation();
   EXPECT_NEAR(rest.z(), 0.04, 1e-4);  // on its face, not on an edge
-  world.set_velocity(index, Eigen::Vector3d(0.05, 0, 0), world.body(index).w_WB_rad_s);
+  world.set_velocity(index, Eigen::Vector3d(0.05, 0, 0), world.body_state(index).w_WB_rad_s);
   int swept = 0;
   for (int k = 0; k < 100; ++k) {
     swept += world.step(0.01).ccd_queries;
-    ASSERT_FALSE(collision::intersects(*table.shape.triangles(), table.X_WB, *body.shape.triangles(), body.X_WB))
+    ASSERT_FALSE(collision::intersects(*table.shape.triangles(), X_WT, *body.shape.triangles(), now.X_WB))
         << "step " << k;
-    ASSERT_NEAR(body.X_WB.translation().z(), rest.z(), 1e-5) << "step " << k;
+    ASSERT_NEAR(now.X_WB.translation().z(), rest.z(), 1e-5) << "step " << k;
   }
   EXPECT_EQ(swept, 0);  // (before: one query a step)
-  EXPECT_NEAR(body.X_WB.translation().x() - rest.x(), 0.05, 1e-3);
+  EXPECT_NEAR(now.X_WB.translation().x() - rest.x(), 0.05, 1e-3);
 }
 
 // A spinning bunny lowered onto a still one until they touch, as a step cut at their
@@ -131,7 +134,7 @@ TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
       const int turning = world.add_body(arphys::scene::make_instance(*bunny, "turning", touching, {0, 0, 0}, w_rad_s * axis));
       for (int k = 0; k < kSteps; ++k) {
         world.step(0.02);
-        const RigidBody& body = world.bodies()[turning];
+        const RigidBody& body = world.body_copy(turning);
         ASSERT_TRUE(body.X_WB.matrix().allFinite());
         double deepest_m = 0;
         for (const auto& point : collision::contact_manifold(still.shape, upright, body.shape, body.X_WB, 0.0))
@@ -174,12 +177,12 @@ TEST(SceneWorld, CrossedBunniesArePushedApartAtTheDepenetrationSpeed) {
   double fastest_m_s = 0;
   for (int k = 0; k < 10; ++k) {
     world.step(0.01);
-    const RigidBody& body = world.bodies()[pushed];
+    const RigidBody& body = world.body_copy(pushed);
     crossing_steps += collision::intersects(mesh, upright, mesh, body.X_WB);
     fastest_m_s = std::max(fastest_m_s, body.v_WBcm_m_s.norm());
   }
   EXPECT_LT(crossing_steps, 10);
-  EXPECT_FALSE(collision::intersects(mesh, upright, mesh, world.bodies()[pushed].X_WB));
+  EXPECT_FALSE(collision::intersects(mesh, upright, mesh, world.body_state(pushed).X_WB));
   EXPECT_GT(fastest_m_s, 0.01);  // pushed out, not left to the resting gap's micrometre a step
   EXPECT_LE(fastest_m_s, 1.5 * world.options().max_depenetration_speed_m_s);  // and not launched
 }
@@ -196,11 +199,11 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
     const int index = add_tilted_mesh_cube(world, -depth_m);
     double fastest_m_s = 0;  // while it is being pushed out (out, it tips flat, as it would)
     for (int k = 0; k < 100; ++k) {
-      const bool inside = lowest_z(world.bodies()[index]) < 0;
+      const bool inside = lowest_z(world.body_copy(index)) < 0;
       world.step(0.01);
-      if (inside) fastest_m_s = std::max(fastest_m_s, world.bodies()[index].v_WBcm_m_s.norm());
+      if (inside) fastest_m_s = std::max(fastest_m_s, world.body_state(index).v_WBcm_m_s.norm());
     }
-    const RigidBody& body = world.bodies()[index];
+    const RigidBody& body = world.body_copy(index);
     const double rest_gap_m = world.options().contact_gap_m + 1e-6;
     EXPECT_GE(lowest_z(body), 0) << "placed " << depth_m << " m deep";
     EXPECT_LE(lowest_z(body), rest_gap_m) << "placed " << depth_m << " m deep";
@@ -211,8 +214,8 @@ TEST(SceneWorld, AMeshPlacedDeepInsideTheTableIsPushedOutAndRests) {
     again.translation().z() -= depth_m;
     world.place_body(index, again);
     for (int k = 0; k < 100; ++k) world.step(0.01);
-    EXPECT_GE(lowest_z(world.bodies()[index]), 0) << "placed again " << depth_m << " m deep";
-    EXPECT_LE(lowest_z(world.bodies()[index]), rest_gap_m) << "placed again " << depth_m << " m deep";
+    EXPECT_GE(lowest_z(world.body_copy(index)), 0) << "placed again " << depth_m << " m deep";
+    EXPECT_LE(lowest_z(world.body_copy(index)), rest_gap_m) << "placed again " << depth_m << " m deep";
   }
 }
 
@@ -244,7 +247,7 @@ TEST(SceneWorld, PlacingABodyAtANonFinitePoseIsRefusedByName) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("crate"), std::string::npos) << e.what();
   }
-  EXPECT_TRUE(world.bodies()[index].X_WB.matrix().allFinite());
+  EXPECT_TRUE(world.body_state(index).X_WB.matrix().allFinite());
 }
 
 }  // namespace
