@@ -2,7 +2,8 @@
 # SERIAL: the test measures a running pipeline (frame gaps, counts) and must not share
 # the machine's two cores with another test.
 # One GoogleTest executable per call; every test case is registered with ctest
-# under the given label so `ctest -L unit` etc. select them.
+# under the given label so `ctest -L unit` etc. select them (ARPHYS_TEST_WHOLE_EXECUTABLES:
+# the executable as one test, under that label).
 function(arphys_add_test name)
   cmake_parse_arguments(ARG "SERIAL" "LABEL;TIMEOUT" "SOURCES;LIBS" ${ARGN})
   if(NOT ARG_LABEL MATCHES "^(unit|integration|slow)$")
@@ -12,6 +13,9 @@ function(arphys_add_test name)
     set(ARG_TIMEOUT 300)
   endif()
   add_executable(${name} ${ARG_SOURCES})
+  if(ARPHYS_UNITY_TESTS)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD ON)
+  endif()
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   target_include_directories(${name} PRIVATE ${ARPHYS_SOURCE_DIR})  # tests/support/
   target_compile_definitions(${name} PRIVATE
@@ -21,7 +25,12 @@ function(arphys_add_test name)
   if(ARG_SERIAL)
     set(serial TRUE)
   endif()
-  gtest_discover_tests(${name}
-    PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial}
-    DISCOVERY_TIMEOUT 60)
+  if(ARPHYS_TEST_WHOLE_EXECUTABLES)
+    add_test(NAME ${name} COMMAND ${name})
+    set_tests_properties(${name} PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial})
+  else()
+    gtest_discover_tests(${name}
+      PROPERTIES LABELS ${ARG_LABEL} TIMEOUT ${ARG_TIMEOUT} RUN_SERIAL ${serial}
+      DISCOVERY_TIMEOUT 60)
+  endif()
 endfunction()
