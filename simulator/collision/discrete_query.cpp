@@ -217,8 +217,8 @@ class ManifoldBuilder {
     // slightly inside; a shell's face pushes to the side the vertex is on.
     if (!outward && n.dot(v - tri[0]) < 0 && d > 1e-12) n = -n;
     // (An open surface's vertex has no outward direction: any face may hold it back. The
-    // test below used to drop every such vertex, since 0 >= 0: a scanned bunny with holes
-    // in its base found no contact on its vertices, sank into the table and fell through.)
+    // test below keeps such a vertex: with 0 >= 0 it would drop it, and a scanned bunny with
+    // holes in its base would find no contact on its vertices and sink through the table.)
     if (vertex_out.squaredNorm() > 0 && vertex_out.dot(n) >= -1e-9 * vertex_out.norm()) return;  // the face does not oppose the vertex
     for (const int index : vertex_entries_[key])
       if (points_[index].normal_W.dot(sign * n) > 1 - 1e-9) return;  // coplanar neighbour: same contact

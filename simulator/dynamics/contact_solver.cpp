@@ -121,16 +121,15 @@ struct DualSolution {
 
 // Above this many rows the active set's passive block is factorised sparse (in the
 // order a fill-reducing order of the whole island induces on it) and the dual residual
-// computed with the sparse matrix: a pile's island of 600 rows took 20-30 ms per dense
-// factorisation, one per added row; its Delassus matrix has a few dozen non-zeros per
-// row. Below it, dense is faster.
+// computed with the sparse matrix: a dense factorisation of a pile's 600-row island costs
+// 20-30 ms, one per added row, while its Delassus matrix has a few dozen non-zeros per row.
+// Below it, dense is faster.
 constexpr int kSparseRows = 128;
 
 // An island's Delassus matrix in sparse form and its fill-reducing order, built when a
 // solve first needs them and kept for the island's other solves (a frictional island is
-// solved three times, and again when squeezed: each built them afresh, a scan of the
-// whole dense matrix and an AMD ordering: the scans alone were 3.6 % of a shoved bunny
-// pile's time, 1.2 % now).
+// solved three times, and again when squeezed; building them is a scan of the whole dense
+// matrix and an AMD ordering).
 struct SparseDelassus {
   Eigen::SparseMatrix<double> A;
   bool built = false;
@@ -172,8 +171,8 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   bool factor_follows = false;  // factor.rows() == P
   // Set when a sparse factorisation lost digits (nearly dependent rows: a squeezed pile
   // of meshes, sixteen rows a pair): from then on the dense factor, kept up to date row
-  // by row, serves the rest of the solve. (Falling back to a dense factorisation afresh
-  // for every change of the active set took 30 s per step in a 100-bunny pile.)
+  // by row, serves the rest of the solve. (A dense factorisation afresh for every change of
+  // the active set costs 30 s per step in a 100-bunny pile.)
   bool sparse_unreliable = false;
   const auto large = [&] { return sparse && !sparse_unreliable && static_cast<int>(P.size()) > kSparseRows; };
   const auto join = [&](int row) {
@@ -253,8 +252,8 @@ DualSolution solve_dual_exact(const Eigen::MatrixXd& A, const Eigen::VectorXd& q
   // violate, and most of the others pushed in the caller's previous solve. Start from
   // them, dropping those the equality solution pushes the wrong way until it is
   // positive; the loop below then adds what is still violated, one row at a time. A
-  // cold start adds every one of them that way, one iteration each: a pile with a
-  // thousand contact rows took a second.
+  // cold start adds every one of them that way, one iteration each: a second for a pile
+  // with a thousand contact rows.
   // Where contacts are redundant (a bunny's sixteen points on a table) starting from
   // every violated row spreads the impulse over all of them where the one-at-a-time
   // loop picks a few; both are exact for the normals, but the staggered friction solve
@@ -348,8 +347,8 @@ void tangents(const Eigen::Vector3d& n, Eigen::Vector3d& t1, Eigen::Vector3d& t2
 // disc of radius bound_N_s, keeping its direction.
 void clamp_to_friction_disc(double& f1, double& f2, double bound_N_s) {
   // Squared, and sqrt rather than std::hypot: impulses are nowhere near overflow, and glibc's
-  // careful hypot, called for every frictional row in every sweep, was a quarter of a frictional
-  // 1000-box pile's time.
+  // careful hypot, called for every frictional row in every sweep, costs a quarter of a
+  // frictional 1000-box pile's time.
   const double magnitude_squared = f1 * f1 + f2 * f2;
   if (magnitude_squared <= bound_N_s * bound_N_s) return;
   const double scale = bound_N_s > 0 ? bound_N_s / std::sqrt(magnitude_squared) : 0.0;
@@ -400,7 +399,7 @@ int projected_gauss_seidel(const std::vector<BodyInertia>& inertia, std::vector<
   // normals apart from the tangents, with what a sweep reads of their rows: a
   // frictionless sweep reads one array front to back. (Interleaved with unused tangents,
   // and reading each row's friction from the row, the sweeps of a frictionless 1000-box
-  // pile took a sixth longer.)
+  // pile take a sixth longer.)
   struct SweepDirection {
     int a = 0, b = 0;
     Vector6d Ja = Vector6d::Zero(), Jb = Vector6d::Zero(), Wa = Vector6d::Zero(), Wb = Vector6d::Zero();
@@ -631,7 +630,7 @@ IslandAnswer solve_island_exact(const std::vector<BodyInertia>& inertia, std::ve
   }
   for (int round = 0; round < rounds; ++round) {
     if (in.frictional) {
-      // (The island's own bodies only: a copy of every body's velocity per island was a
+      // (The island's own bodies only: a copy of every body's velocity per island costs a
       // tenth of a 1000-box pile's solve.)
       if (round > 0)
         for (std::size_t b = 0; b < in.members.size(); ++b) velocities[in.members[b]] = in.before[b];

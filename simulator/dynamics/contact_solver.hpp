@@ -70,7 +70,7 @@ struct ContactSolverOptions {
   // Islands with more contact rows than this are solved iteratively even under kExact
   // (counted in ContactSolveResult::iterative_islands; their KKT residual is reported):
   // the dense active-set solve costs about rows^3 per factorisation and a pile of a
-  // thousand boxes leaning on each other (thousands of rows) took minutes for one step.
+  // thousand boxes leaning on each other (thousands of rows) takes minutes for one step.
   int max_exact_rows = 600;
 };
 

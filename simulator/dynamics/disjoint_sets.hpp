@@ -17,7 +17,7 @@ class DisjointSets {
     std::iota(parent_.begin(), parent_.end(), 0);
   }
   // The smallest member of x's set. (Iterative: a recursive find through std::function
-  // was a few percent of a 1000-box pile's step.)
+  // costs a few percent of a 1000-box pile's step.)
   int find(int x) {
     while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
     return x;

@@ -105,8 +105,8 @@ bool project_deep_points(const WorldModel& model, const std::vector<BodyState>& 
   const auto pose_of = [&](int body) { return moved[body_index(body)].X_WB; };
   // Every point of a lifted pair within a few tolerances (lifting a box's deepest corner
   // turns it onto its others) is held at half a tolerance under what the pair may end at:
-  // held at the resting gap instead, pairs resting within the tolerance were pushed apart
-  // too and the lift spread through a pile. Pairs that the lifts deepen beyond what they
+  // held at the resting gap instead, pairs resting within the tolerance would be pushed
+  // apart too and the lift spread through a pile. Pairs that the lifts deepen beyond what they
   // may join them, round by round.
   for (int round = 0; round < kProjectionRounds; ++round) {
     std::vector<ProjectedPoint> points;

@@ -60,7 +60,7 @@ geometry::MassProperties mass_properties_of(const config::ObjectConfig& object) 
     case config::ShapeType::kMesh:
     case config::ShapeType::kConvexSet: {
       // Every spawn of a model asks again: loading, capping and integrating a 5k mesh
-      // took about 10 ms, a hitch in the live simulator at each spawn. Convex pieces
+      // takes about 10 ms, a hitch in the live simulator at each spawn. Convex pieces
       // weigh what their source mesh does, or their hulls' union when none is named.
       const bool pieces = object.collision.type == config::ShapeType::kConvexSet && object.collision.mesh_path.empty();
       const std::string& path = pieces ? object.collision.pieces_path : object.collision.mesh_path;

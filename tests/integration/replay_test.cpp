@@ -55,7 +55,7 @@ Trace replay_once(const std::string& player_command) {
     run(player_command);
     played = true;
   });
-  // Until the player has played the log (in real time: about 3 s; it used to be a fixed 8 s).
+  // Until the player has played the log (in real time: about 3 s).
   // (A stuck player would block the join below anyway: the test's timeout ends it.)
   while (!played) bus.handle_timeout_ms(20);
   player.join();

@@ -122,7 +122,7 @@ double box_overlap(const std::vector<Eigen::Isometry3d>& poses, const Eigen::Vec
 struct Csv {
   std::ofstream out;
   Csv(const std::string& path, const std::string& header) : out(path) {
-    // (A missing --out directory used to write nothing, silently.)
+    // (A missing --out directory would otherwise write nothing, silently.)
     if (!out) throw std::runtime_error("cannot write " + path + " (does the --out directory exist?)");
     out << header << "\n";
   }

@@ -29,8 +29,8 @@ ScriptedCamera::ScriptedCamera(const std::string& script_path)
       rng_(script_.effects.seed),
       gain_noise_(0.0, script_.effects.exposure_jitter) {
   // The bodies are drawn pinhole: the marker renderer takes the whole frame through the
-  // camera's lens, once (drawn through it here as well, the bodies were bent twice and the
-  // markers' quiet zones no longer matched the faces around them).
+  // camera's lens, once (drawn through it here as well, the bodies would be bent twice and
+  // the markers' quiet zones would not match the faces around them).
   rendering::CameraProjection pinhole = rendering::CameraProjection::from_config(camera_);
   pinhole.distortion.clear();
   gl_ = std::make_unique<rendering::OverlayRenderer>(pinhole);

@@ -171,8 +171,8 @@ TEST(WorldRobustness, FreeTumblingBoxKeepsItsEnergyAndAngularMomentum) {
 
 // Two boxes falling side by side, tumbling into each other: the step where they strike is
 // cut at the time of impact, and together they still gain exactly the momentum gravity
-// gives them. (Gravity used to be added again over the time left after every cut: two
-// bunnies falling off the table touching and spinning fell at twice the free-fall speed.)
+// gives them. (Gravity added again over the time left after every cut would make two
+// bunnies falling off the table, touching and spinning, fall at twice the free-fall speed.)
 TEST(WorldRobustness, StepsCutByImpactsAddGravityOnce) {
   World world;
   RigidBody left = cube("left", {-0.1 - 5e-7, 0, 0});

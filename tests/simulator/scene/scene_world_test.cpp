@@ -44,10 +44,10 @@ int add_tilted_mesh_cube(World& world, double lowest_z_m) {
   return world.add_body(std::move(cube));
 }
 
-// The scanned bunny has holes in its base. Dropped upright from a few millimetres it
-// used to find no resting contact on its open mesh's vertices, sink in and fall through
-// the table (from 2, 5 and 10 mm; not from 1 or 3). Fixed in the contact manifold
-// (DiscreteQuery.OpenSurfaceVerticesRestingOnASolidAreContacts).
+// The scanned bunny has holes in its base. Dropped upright from a few millimetres, it rests
+// on its open mesh's vertices (a manifold that dropped them, as
+// DiscreteQuery.OpenSurfaceVerticesRestingOnASolidAreContacts guards against, let it sink
+// through the table from 2, 5 and 10 mm).
 TEST(SceneWorld, UprightBunnyDroppedFromLowHeightsRestsOnTheTable) {
   config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
   for (auto& o : scene.objects) o.spawn_at_start.clear();
@@ -92,17 +92,17 @@ TEST(SceneWorld, AMeshSlidingSlowlyOnTheTableIsCheckedAtTheEndOfItsMotionNotSwep
         << "step " << k;
     ASSERT_NEAR(now.X_WB.translation().z(), rest.z(), 1e-5) << "step " << k;
   }
-  EXPECT_EQ(swept, 0);  // (before: one query a step)
+  EXPECT_EQ(swept, 0);  // (swept, it would be one query a step)
   EXPECT_NEAR(now.X_WB.translation().x() - rest.x(), 0.05, 1e-3);
 }
 
 // A spinning bunny lowered onto a still one until they touch, as a step cut at their
 // time of impact leaves them (picometres apart), then left to fall and turn on it. The
-// CCD, touching at the start, times nothing after it: before the end checks, the turning
-// bunny's other features went through the still one's surface (in the thrown-bunny scene,
-// resting pairs sank 5 mm into each other over ten steps). Now no step ends with the
+// CCD, touching at the start, times nothing after it: without the end checks, the turning
+// bunny's other features go through the still one's surface (in the thrown-bunny scene,
+// resting pairs sink 5 mm into each other over ten steps). No step may end with the
 // bunnies deeper inside each other than the world's overlap tolerance (1 um, measured by
-// their pieces' manifolds; before: 9 of 600 steps ended crossing, spinning about z).
+// their pieces' manifolds).
 TEST(SceneWorld, TouchingBunniesTurningIntoEachOtherNeverEndAStepCrossing) {
   config::SceneConfig scene = config::load_scene(kScenes + "bunny_box_table.yaml");
   const config::ObjectConfig* bunny = scene.find_object("bunny");
