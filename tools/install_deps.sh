@@ -6,7 +6,7 @@
 set -euo pipefail
 
 build=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev   # LCM 1.3.1; lcm.pc needs glib
   default-jdk-headless                               # javac/jar for the lcm-spy jar of our types
   libeigen3-dev libyaml-cpp-dev libassimp-dev libcli11-dev nlohmann-json3-dev

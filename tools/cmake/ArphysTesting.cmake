@@ -13,9 +13,6 @@ function(arphys_add_test name)
     set(ARG_TIMEOUT 300)
   endif()
   add_executable(${name} ${ARG_SOURCES})
-  if(ARPHYS_UNITY_TESTS)
-    set_target_properties(${name} PROPERTIES UNITY_BUILD ON)
-  endif()
   target_link_libraries(${name} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
   target_include_directories(${name} PRIVATE ${ARPHYS_SOURCE_DIR})  # tests/support/
   target_compile_definitions(${name} PRIVATE
