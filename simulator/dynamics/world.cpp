@@ -49,7 +49,7 @@ int World::add_body(RigidBody body) {
   BodyState& added = state_.bodies.emplace_back(std::move(static_cast<BodyState&>(body)));
   added.asleep = false;
   model_.bodies.push_back(std::move(static_cast<BodyModel&>(body)));
-  return static_cast<int>(model_.bodies.size()) - 1;
+  return body_count() - 1;
 }
 
 void World::place_body(int index, const geometry::Pose& X_WB) {
@@ -109,7 +109,7 @@ std::vector<RigidBody> World::body_copies() const {
 }
 
 int World::find(const std::string& id) const {
-  for (int i = 0; i < static_cast<int>(model_.bodies.size()); ++i)
+  for (int i = 0; i < body_count(); ++i)
     if (model_.bodies[i].id == id) return i;
   return -1;
 }
@@ -143,7 +143,7 @@ void World::begin_step_memos() {
 }
 
 World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone, StepReport& report) {
-  const int n = static_cast<int>(model_.bodies.size());
+  const int n = body_count();
   FirstPass pass;
   pass.resting = gather_contacts(model_, state_.bodies, state_.hints, state_.mesh, pool_, everyone,
                                  state_.contacts.size() + state_.contacts.size() / 4);
@@ -182,7 +182,7 @@ World::FirstPass World::first_pass(double dt_s, const std::vector<int>& everyone
 void World::step_pending_groups(double dt_s, FirstPass& pass, const std::vector<int>& pending,
                                 const std::vector<int>& dynamic, const std::vector<int>& fixed, GroupStepping& g,
                                 StepReport& report) {
-  const int n = static_cast<int>(model_.bodies.size());
+  const int n = body_count();
   const auto root = [&](int i) { return pass.groups.find(i); };
   std::vector<std::pair<int, int>> members;  // (root, body): the pending groups' bodies, in body order
   for (int i : dynamic)
@@ -307,11 +307,11 @@ StepReport World::step(double dt_s) {
   if (!(dt_s > 0) || !std::isfinite(dt_s))
     throw std::invalid_argument("World::step: dt_s must be positive, got " + std::to_string(dt_s));
   StepReport report;
-  const int n = static_cast<int>(model_.bodies.size());
+  const int n = body_count();
   std::vector<int> everyone(n), fixed, dynamic;
   std::iota(everyone.begin(), everyone.end(), 0);
   set_kinematic_state(everyone, state_.time_s, dt_s);
-  if (model_.options.sleep_after_s > 0) hold_sleepers(dt_s);
+  if (model_.options.sleep_after_s > 0) wake_reachable_sleepers(dt_s);
   for (int i = 0; i < n; ++i) (moving(i) ? dynamic : fixed).push_back(i);
   begin_step_memos();
   FirstPass pass = first_pass(dt_s, everyone, report);

@@ -1,8 +1,8 @@
 #pragma once
 // The simulated world, as a model that is fixed once a body is added (world_model.hpp) and a
 // state that stepping changes (world_state.hpp), and the time stepping of docs/method.md
-// section 2 driven by the CCD of section 1 (docs/dynamics.md, "The step"). A step finds the contacts
-// (step_contacts.hpp), solves for the velocities by Gauss's principle (step_solve.hpp) and
+// section 2 driven by the CCD of section 1 (docs/dynamics.md, "The step"). A step finds the
+// contacts (step_contacts.hpp), solves for the velocities by Gauss's principle (step_solve.hpp) and
 // sweeps the motions that gives (step_sweep.hpp), all bodies at once; bodies that may meet
 // within the step form groups, and a group whose motion meets something, or leaves a touching
 // pair too deep, is re-solved with those meetings as constraints, lifted (step_cut.hpp) or cut
@@ -105,7 +105,7 @@ class World {
   void set_kinematic_state(const std::vector<int>& participants, double t_s, double h_s);
   // Wakes the sleepers a moving body can reach over dt_s (in turn, the sleepers they
   // touched when they fell asleep); the others stay asleep, held fixed through the step.
-  void hold_sleepers(double dt_s);
+  void wake_reachable_sleepers(double dt_s);
   // Counts each awake body's quiet time and puts quiet islands to sleep.
   void end_sleep_step(double dt_s, StepReport& report);
   // Wakes these bodies (their quiet time restarts) and, in turn, the sleepers they touched.

@@ -31,8 +31,8 @@ double World::point_speed_m_s(int i) const {
   return body.v_WBcm_m_s.norm() + body.w_WB_rad_s.norm() * model_.radius_m[i];
 }
 
-void World::hold_sleepers(double dt_s) {
-  const int n = static_cast<int>(model_.bodies.size());
+void World::wake_reachable_sleepers(double dt_s) {
+  const int n = body_count();
   const double tolerance = model_.options.contact_tolerance_m;
   const double fall_m = 0.5 * model_.options.gravity_m_s2.norm() * dt_s * dt_s;
   // What can reach a sleeper over the step, and how far (bounding radius included): a
@@ -81,7 +81,7 @@ void World::hold_sleepers(double dt_s) {
 }
 
 void World::end_sleep_step(double dt_s, StepReport& report) {
-  const int n = static_cast<int>(model_.bodies.size());
+  const int n = body_count();
   const auto awake = [&](int i) { return moving(i); };
   for (int i = 0; i < n; ++i) {
     if (!awake(i)) continue;

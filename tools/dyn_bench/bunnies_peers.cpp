@@ -40,6 +40,7 @@ struct Row {
 
 Row run_arphys(const config::SceneConfig& scene, double duration_s) {
   dynamics::World world = arphys::scene::build_world(scene);
+  const std::vector<RigidBody> bodies = world.body_copies();  // their shapes (the scene adds and removes none)
   Row row;
   const long steps = std::lround(duration_s / scene.time_step_s);
   double wall = 0;
@@ -48,8 +49,8 @@ Row run_arphys(const config::SceneConfig& scene, double duration_s) {
     world.step(scene.time_step_s);
     wall += std::chrono::duration<double>(Clock::now() - start).count();
     std::vector<geometry::Pose> poses;
-    for (const RigidBody& b : world.body_copies()) poses.push_back(b.X_WB);
-    row.deepest_overlap_m = std::max(row.deepest_overlap_m, deepest_overlap_m(world.body_copies(), poses));
+    for (const dynamics::BodyState& b : world.state().bodies) poses.push_back(b.X_WB);
+    row.deepest_overlap_m = std::max(row.deepest_overlap_m, deepest_overlap_m(bodies, poses));
     row.simulated_s += scene.time_step_s;
     if (wall > 120) break;  // a scene that slows to a crawl is reported, not waited for
   }

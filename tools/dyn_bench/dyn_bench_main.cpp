@@ -421,10 +421,12 @@ void run_bunnies(const std::string& configs, double duration, int runs, Csv& csv
     std::vector<double> ms_per_step;
     for (int run = 0; run < runs; ++run) {
       arphys::dynamics::World world = arphys::scene::build_world(scene);
-      for (int i = 0; i < static_cast<int>(world.body_count()); ++i)
-        if (const arphys::dynamics::RigidBody& body = world.body_copy(i); body.is_dynamic())
+      for (int i = 0; i < world.body_count(); ++i)
+        if (world.body_model(i).is_dynamic()) {
+          const arphys::dynamics::BodyState& body = world.body_state(i);
           world.set_velocity(i, body.v_WBcm_m_s + Eigen::Vector3d(start_velocity_perturbation_m_s(i, run), 0, 0),
                              body.w_WB_rad_s);
+        }
       const long steps = std::lround(duration / scene.time_step_s);
       long impacts = 0, done = 0, crossed = 0, in_fixed = 0, waited = 0;
       double wall = 0;  // seconds in World::step

@@ -123,16 +123,17 @@ PushOutcome run_push(const config::SceneConfig& scene_in, const PushScenario& s)
       world.set_trajectory(box, std::move(moved));
     }
     const dynamics::StepReport report = world.step(dt);
-    const dynamics::RigidBody& b = world.body_copy(bunny);
+    const dynamics::BodyState& b = world.body_state(bunny);
+    const Eigen::Vector3d com_W = dynamics::com_W(world.body_model(bunny), b);
     if (!b.X_WB.matrix().allFinite() || !b.v_WBcm_m_s.allFinite()) {
       out.non_finite = true;
       break;
     }
     out.max_overlap_mm = std::max(out.max_overlap_mm, 1e3 * report.max_penetration_m);
     // The centre of mass: the mesh origin of a turning bunny moves fast without the bunny going anywhere.
-    if (t1 >= kPushStart_s - 0.05 && std::isnan(rest_z)) rest_z = b.com_W().z();
+    if (t1 >= kPushStart_s - 0.05 && std::isnan(rest_z)) rest_z = com_W.z();
     if (!std::isnan(rest_z)) {
-      out.max_rise_mm = std::max(out.max_rise_mm, 1e3 * (b.com_W().z() - rest_z));
+      out.max_rise_mm = std::max(out.max_rise_mm, 1e3 * (com_W.z() - rest_z));
       out.peak_speed_ratio = std::max(out.peak_speed_ratio, b.v_WBcm_m_s.norm() / s.push_speed_m_s);
     }
   }

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "simulator/dynamics/rigid_body.hpp"
-#include "simulator/dynamics/world_model.hpp"
+#include "simulator/dynamics/world.hpp"
 #include "simulator/geometry/mass_properties.hpp"
 #include "simulator/geometry/triangle_mesh.hpp"
 
@@ -37,20 +37,16 @@ inline RigidBody mesh_cube(const std::string& id, const Eigen::Vector3d& p, doub
   return b;
 }
 
-// The model and state a World keeps of these bodies, for calling its stages directly.
+// The model and state a World keeps of these bodies (World::add_body splits each), for
+// calling its stages directly.
 struct StageWorld {
   WorldModel model;
   std::vector<BodyState> state;
 };
 inline StageWorld stage_world(const std::vector<RigidBody>& bodies, WorldOptions options = {}) {
-  StageWorld w;
-  w.model.options = std::move(options);
-  for (const RigidBody& b : bodies) {
-    w.model.bodies.push_back(b);
-    w.model.radius_m.push_back(b.bounding_radius_m());
-    w.state.push_back(b);
-  }
-  return w;
+  World world(std::move(options));
+  for (const RigidBody& b : bodies) world.add_body(b);
+  return {world.model(), world.state().bodies};
 }
 
 }  // namespace arphys::dynamics::testing

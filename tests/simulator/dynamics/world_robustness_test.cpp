@@ -564,7 +564,7 @@ TEST(WorldRobustness, AnOffCentreLandingIsNotMistakenForALaunch) {
     }
   World world = arphys::scene::build_world(scene);
   int bunny = -1;
-  for (int i = 0; i < static_cast<int>(world.body_count()); ++i)
+  for (int i = 0; i < world.body_count(); ++i)
     if (world.body_model(i).is_dynamic()) bunny = i;
   ASSERT_GE(bunny, 0);
   const auto energy_J = [&] {
