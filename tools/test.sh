@@ -18,26 +18,57 @@ tools/install_deps.sh
 # it against make's 308.
 if command -v ninja >/dev/null; then export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"; fi
 tools/build.sh -DARPHYS_BUILD_PEERS=ON   # with the peers: their oracle tests and benchmark smoke runs
-(cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@")
 
-if [[ -n "${ARPHYS_SKIP_SANITIZERS:-}" ]]; then exit 0; fi
-if ! command -v clang++ >/dev/null; then
+sanitizers=yes
+if [[ -n "${ARPHYS_SKIP_SANITIZERS:-}" ]]; then
+  sanitizers=
+elif ! command -v clang++ >/dev/null; then
   echo "test.sh: clang++ missing, sanitizer and fuzz runs skipped (tools/install_deps.sh installs it)" >&2
-  exit 0
+  sanitizers=
 fi
-# File by file, not as a unity build like build/: between them the two builds check both that
-# the files of a target share no file-local name and that each file includes what it uses.
-# Each unit test executable runs whole, as one ctest test (a sanitized process is slow to
-# start); a failure names its test case in the output. Line tables only: enough for the
-# sanitizers' stack traces to name file and line, and cheaper to compile than full debug info.
-cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
-  -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DARPHYS_BUILD_PEERS=ON -DCMAKE_UNITY_BUILD=OFF \
-  -DARPHYS_TEST_WHOLE_EXECUTABLES=ON >/dev/null
 unit_tests=(geometry_test config_test msg_test msg_image_test collision_test fcl_oracle_test convex_ccd_test dynamics_test sim_process_test tracking_test
             rendering_test)
 fuzzers=(fuzz_messages write_message_seeds fuzz_configs fuzz_mesh fuzz_ccd_query)
-cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"
+
+# A unity build like build/: 338 s of compile CPU against 602 file by file
+# (docs/decisions/0012-test-gate-build-time.md). Each unit test executable runs whole, as one
+# ctest test (a sanitized process is slow to start); a failure names its test case in the output. Line tables only: enough for the
+# sanitizers' stack traces to name file and line, and cheaper to compile than full debug info.
+sanitizer_build() {
+  cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
+    -DARPHYS_BUILD_FUZZERS=ON -DARPHYS_BUILD_LCM_JAVA=OFF -DARPHYS_BUILD_PEERS=ON -DCMAKE_UNITY_BUILD=ON \
+    -DARPHYS_TEST_WHOLE_EXECUTABLES=ON >/dev/null
+  cmake --build build-fuzz -j"$(nproc)" --target "${unit_tests[@]}" "${fuzzers[@]}"
+}
+
+# The sanitizer build runs beside the tests below at the lowest priority, so it takes only the
+# CPU they leave idle: the pipeline tests that run alone keep about one core of the two busy.
+# Job control gives it a process group of its own, to stop it whole if the tests fail.
+sanitizer_log=build-fuzz/build.log
+if [[ -n "$sanitizers" ]]; then
+  mkdir -p build-fuzz
+  set -m
+  (
+    renice -n 19 "$BASHPID" >/dev/null
+    sanitizer_build
+  ) >"$sanitizer_log" 2>&1 &
+  sanitizer_pid=$!
+  set +m
+fi
+status=0
+(cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@") || status=$?
+if [[ -z "$sanitizers" ]]; then exit "$status"; fi
+if [[ "$status" -ne 0 ]]; then
+  kill -- "-$sanitizer_pid" 2>/dev/null || true
+  exit "$status"
+fi
+if ! wait "$sanitizer_pid"; then
+  tail -n 60 "$sanitizer_log" >&2
+  echo "test.sh: the sanitizer build failed (whole log: $sanitizer_log)" >&2
+  exit 1
+fi
+
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd build-fuzz
