@@ -44,8 +44,13 @@ sanitizer_build() {
 
 # The sanitizer build runs beside the tests below at the lowest priority, so it takes only the
 # CPU they leave idle: the pipeline tests that run alone keep about one core of the two busy.
-# Job control gives it a process group of its own, to stop it whole if the tests fail.
+# Job control gives it a process group of its own, stopped whole when this script ends early
+# (failed tests, Ctrl-C).
 sanitizer_log=build-fuzz/build.log
+sanitizer_pid=
+stop_sanitizer_build() { if [[ -n "$sanitizer_pid" ]]; then kill -- "-$sanitizer_pid" 2>/dev/null || true; fi; }
+trap stop_sanitizer_build EXIT
+trap 'exit 130' INT TERM
 if [[ -n "$sanitizers" ]]; then
   mkdir -p build-fuzz
   set -m
@@ -56,18 +61,14 @@ if [[ -n "$sanitizers" ]]; then
   sanitizer_pid=$!
   set +m
 fi
-status=0
-(cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@") || status=$?
-if [[ -z "$sanitizers" ]]; then exit "$status"; fi
-if [[ "$status" -ne 0 ]]; then
-  kill -- "-$sanitizer_pid" 2>/dev/null || true
-  exit "$status"
-fi
+(cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@")
+if [[ -z "$sanitizers" ]]; then exit 0; fi
 if ! wait "$sanitizer_pid"; then
   tail -n 60 "$sanitizer_log" >&2
   echo "test.sh: the sanitizer build failed (whole log: $sanitizer_log)" >&2
   exit 1
 fi
+sanitizer_pid=
 
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizer/lsan.supp"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
