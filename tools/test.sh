@@ -60,9 +60,11 @@ if [[ -n "$sanitizers" ]]; then
   ) >"$sanitizer_log" 2>&1 &
   sanitizer_pid=$!
   set +m
+  echo "test.sh: the sanitizer build runs beside the tests at nice 19 (log: $sanitizer_log)"
 fi
 (cd build && ctest -L 'unit|integration' --output-on-failure -j"$(nproc)" "$@")
 if [[ -z "$sanitizers" ]]; then exit 0; fi
+echo "test.sh: finishing the sanitizer build ($(tail -n 1 "$sanitizer_log" | cut -c1-60))"
 if ! wait "$sanitizer_pid"; then
   tail -n 60 "$sanitizer_log" >&2
   echo "test.sh: the sanitizer build failed (whole log: $sanitizer_log)" >&2
