@@ -7,6 +7,7 @@ its target's flags as a build's compile_commands.json gives them.
     tools/check_includes.py [--since REV] [-j N] BUILD_DIR   exit 1 if a file does not compile alone
     tools/check_includes.py --self-test                      plants a file that leans on its batch
 """
+import argparse
 import concurrent.futures
 import json
 import os
@@ -108,24 +109,17 @@ def self_test():
 
 
 def main(argv):
-    if "--help" in argv or "-h" in argv:
-        print(__doc__)
-        return 0
-    if "--self-test" in argv:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("build_dir", nargs="?", help="a configured build tree (its compile_commands.json)")
+    parser.add_argument("--since", default="", metavar="REV", help="only the sources changed since REV")
+    parser.add_argument("-j", type=int, default=os.cpu_count() or 2, dest="jobs", help="compilers at a time")
+    parser.add_argument("--self-test", action="store_true", help="plant a file leaning on its batch")
+    args = parser.parse_args(argv)
+    if args.self_test:
         return self_test()
-    since, jobs = "", os.cpu_count() or 2
-    for flag in ("--since", "-j"):
-        if flag in argv:
-            i = argv.index(flag)
-            if flag == "--since":
-                since = argv[i + 1]
-            else:
-                jobs = int(argv[i + 1])
-            argv = argv[:i] + argv[i + 2:]
-    if len(argv) != 1:
-        print(__doc__, file=sys.stderr)
-        return 2
-    return check(argv[0], since, jobs)
+    if not args.build_dir:
+        parser.error("a build directory is needed")
+    return check(args.build_dir, args.since, args.jobs)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: install what is missing, build, run the unit and
-# integration tests (not `slow`); then, with clang, build the unit tests and the fuzzers
-# with AddressSanitizer + UndefinedBehaviorSanitizer (build-fuzz/) and run the unit tests
-# and a short smoke run of every fuzzer under them. ARPHYS_SKIP_SANITIZERS=1 skips that
+# integration tests (not `slow`) while, with clang and at the lowest priority, the unit tests
+# and the fuzzers build with AddressSanitizer + UndefinedBehaviorSanitizer (build-fuzz/); then
+# run the unit tests and a short smoke run of every fuzzer under them. ARPHYS_SKIP_SANITIZERS=1 skips that
 # second part. Extra arguments go to the first ctest (e.g. -R Screw).
 #   tools/test.sh --quick [CTEST ARGS]   the loop while changing code: an incremental build
 #                                        and the unit tests only (no installs, no sanitizers)
@@ -14,8 +14,8 @@ if [[ "${1:-}" == "--quick" ]]; then
   cd build && exec ctest -L unit --output-on-failure -j"$(nproc)" "$@"
 fi
 tools/install_deps.sh
-# Ninja for new build trees, as in tools/build.sh: the sanitizer build below took 256 s with
-# it against make's 308.
+# Ninja for the sanitizer build's new tree too (tools/build.sh picks it for build/): 256 s
+# against make's 308.
 if command -v ninja >/dev/null; then export CMAKE_GENERATOR="${CMAKE_GENERATOR:-Ninja}"; fi
 tools/build.sh -DARPHYS_BUILD_PEERS=ON   # with the peers: their oracle tests and benchmark smoke runs
 
@@ -32,8 +32,9 @@ fuzzers=(fuzz_messages write_message_seeds fuzz_configs fuzz_mesh fuzz_ccd_query
 
 # A unity build like build/: 338 s of compile CPU against 602 file by file
 # (docs/decisions/0012-test-gate-build-time.md). Each unit test executable runs whole, as one
-# ctest test (a sanitized process is slow to start); a failure names its test case in the output. Line tables only: enough for the
-# sanitizers' stack traces to name file and line, and cheaper to compile than full debug info.
+# ctest test (a sanitized process is slow to start); a failure names its test case in the
+# output. Line tables only: enough for the sanitizers' stack traces to name file and line,
+# and cheaper to compile than full debug info.
 sanitizer_build() {
   cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" \
@@ -50,7 +51,8 @@ sanitizer_log=build-fuzz/build.log
 sanitizer_pid=
 stop_sanitizer_build() { if [[ -n "$sanitizer_pid" ]]; then kill -- "-$sanitizer_pid" 2>/dev/null || true; fi; }
 trap stop_sanitizer_build EXIT
-trap 'exit 130' INT TERM
+trap 'exit 130' INT
+trap 'exit 143' TERM
 if [[ -n "$sanitizers" ]]; then
   mkdir -p build-fuzz
   set -m
